@@ -1,0 +1,7 @@
+"""shockfriction: friction under shock loading (after Dambakizi 2009).
+
+SI units everywhere inside the package; decks carry unit strings that are
+converted once, at the edge, by :mod:`shockfriction.units`.
+"""
+
+__version__ = "0.1.0"

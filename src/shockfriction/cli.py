@@ -1,0 +1,53 @@
+"""The ``shockfriction`` command line (typer).
+
+Each command lives in its own module of :mod:`shockfriction.commands` and
+registers itself through ``register(app)``.  Deck errors exit with status 2,
+failed runs with status 3, each with one message and no traceback.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+import sys
+
+import typer
+from rich.console import Console
+
+from shockfriction import commands
+from shockfriction.errors import DeckError, SimulationError
+
+app = typer.Typer(
+    name="shockfriction",
+    help="Metal-on-metal friction under shock loading (after Dambakizi 2009).",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+
+
+@app.callback()
+def _root() -> None:
+    """Metal-on-metal friction under shock loading (after Dambakizi 2009)."""
+
+
+for _mod in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
+    importlib.import_module(f"{commands.__name__}.{_mod.name}").register(app)
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Entry point of the console script; ``argv`` is for tests."""
+    err = Console(stderr=True)
+    try:
+        app(args=argv, prog_name="shockfriction")
+    except DeckError as exc:
+        err.print(f"[bold red]deck error[/]\n{exc}", highlight=False, soft_wrap=True)
+        sys.exit(2)
+    except SimulationError as exc:
+        err.print(f"[bold red]run failed[/]\n{exc}", highlight=False, soft_wrap=True)
+        sys.exit(3)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -1,0 +1,88 @@
+"""Shared deck machinery: strict models, TOML reading and readable errors.
+
+A bad deck becomes one :class:`~shockfriction.errors.DeckError` whose message
+names each offending field by its path, the value given and what was expected.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any, TypeVar
+
+from pydantic import BaseModel, ConfigDict, ValidationError
+
+from shockfriction.errors import DeckError
+
+M = TypeVar("M", bound=BaseModel)
+
+
+class DeckModel(BaseModel):
+    """Base of every deck section: unknown keys are errors, values are frozen."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+def _field_path(loc: tuple) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += ("." if out else "") + str(part)
+    return out or "(deck)"
+
+
+_EXPECT = {
+    "missing": "a value (this field is required)",
+    "extra_forbidden": "no such key (check the spelling against the documented deck fields)",
+}
+
+
+def format_validation_error(err: ValidationError, source: str = "deck", raw: dict | None = None) -> str:
+    """One line per error: ``source: field.path = <given>: expected <what>``."""
+    lines = []
+    for e in err.errors(include_url=False):
+        path = _field_path(tuple(p for p in e["loc"] if not (isinstance(p, str) and p.startswith("function-"))))
+        given = _lookup(raw, e["loc"]) if raw is not None else e.get("input")
+        expected = _EXPECT.get(e["type"]) or e["msg"].removeprefix("Value error, ")
+        if e["type"] == "missing":
+            lines.append(f"{source}: {path} is missing: expected {expected}")
+        else:
+            lines.append(f"{source}: {path} = {given!r}: expected {expected}")
+    return "\n".join(lines)
+
+
+def _lookup(raw: Any, loc: tuple) -> Any:
+    cur = raw
+    for part in loc:
+        try:
+            cur = cur[part]
+        except (KeyError, IndexError, TypeError):
+            return "<missing>" if cur is raw else cur
+    return cur
+
+
+def read_toml(path: str | Path) -> dict:
+    """Read a TOML file; a missing file or a syntax error becomes a DeckError."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise DeckError(f"{path}: no such file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise DeckError(f"{path}: not valid TOML: {exc}") from None
+
+
+def validate(model: type[M], data: dict, source: str = "deck") -> M:
+    """Validate ``data`` against ``model``; errors become one readable DeckError."""
+    try:
+        return model.model_validate(data)
+    except ValidationError as err:
+        raise DeckError(format_validation_error(err, source, data)) from None
+
+
+def load_deck(path: str | Path, model: type[M]) -> M:
+    """Read and validate a TOML deck."""
+    return validate(model, read_toml(path), str(path))

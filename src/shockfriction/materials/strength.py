@@ -1,0 +1,74 @@
+"""Steinberg-Cochran-Guinan (SCG) strength, shared by the hydrocode and the sub-grid models.
+
+Thesis form (eq. 2.53-2.54 with the Ball & Winter melt factor, eq. 4.57)::
+
+    G(P, T) = G0 (1 + g P - h (T - 300)) exp(-xi T / (T_F - T))     (0 for T >= T_F, never < 0)
+    Y(eps, P, T) = min(Ymax, Y0 (1 + beta eps)^n) G(P, T) / G0
+
+P is the pressure (compression positive) or, at the interface, the normal
+stress |F_N|.  The kernels take the parameter array of
+:meth:`shockfriction.materials.Material.scg_params`:
+``[G0, Y0, Ymax, beta, n, g, h, xi, T_F]``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, vectorize
+
+T_REF = 300.0  #: SCG reference temperature (K)
+
+I_G0, I_Y0, I_YMAX, I_BETA, I_N, I_G, I_H, I_XI, I_TF = range(9)
+
+
+@njit(cache=True)
+def scg_shear_ratio(P, T, g, h, xi, T_melt):
+    """G(P, T)/G0: (1 + g P - h (T - 300)) exp(-xi T/(T_F - T)); 0 at or above T_F, never negative."""
+    if T >= T_melt:
+        return 0.0
+    r = (1.0 + g * P - h * (T - T_REF)) * math.exp(-xi * T / (T_melt - T))
+    return r if r > 0.0 else 0.0
+
+
+@njit(cache=True)
+def scg_shear_modulus(P, T, p):
+    """G(P, T) in Pa for the parameter array ``p``."""
+    return p[I_G0] * scg_shear_ratio(P, T, p[I_G], p[I_H], p[I_XI], p[I_TF])
+
+
+@njit(cache=True)
+def scg_hardening(eps_p, p):
+    """Work-hardened yield at reference state: min(Ymax, Y0 (1 + beta eps_p)^n)."""
+    y = p[I_Y0] * (1.0 + p[I_BETA] * max(eps_p, 0.0)) ** p[I_N]
+    return y if y < p[I_YMAX] else p[I_YMAX]
+
+
+@njit(cache=True)
+def scg_yield(eps_p, P, T, p):
+    """Y(eps_p, P, T) = min(Ymax, Y0 (1 + beta eps_p)^n) G(P, T)/G0, in Pa."""
+    return scg_hardening(eps_p, p) * scg_shear_ratio(P, T, p[I_G], p[I_H], p[I_XI], p[I_TF])
+
+
+@vectorize(["float64(float64, float64, float64, float64, float64, float64)"], cache=True)
+def shear_ratio(P, T, g, h, xi, T_melt):
+    """Element-wise G/G0 (numpy ufunc over P and T)."""
+    if T >= T_melt:
+        return 0.0
+    r = (1.0 + g * P - h * (T - T_REF)) * math.exp(-xi * T / (T_melt - T))
+    return r if r > 0.0 else 0.0
+
+
+def shear_modulus(material, P, T) -> np.ndarray:
+    """G(P, T) for a :class:`~shockfriction.materials.Material` (numpy arrays or floats)."""
+    m = material
+    return m.G0 * shear_ratio(np.asarray(P, float), np.asarray(T, float), m.scg_g, m.scg_h, m.scg_xi,
+                              m.melting_temperature)
+
+
+def yield_stress(material, eps_p, P, T) -> np.ndarray:
+    """Y(eps_p, P, T) for a material (numpy arrays or floats)."""
+    m = material
+    hard = np.minimum(m.Ymax, m.Y0 * (1.0 + m.scg_beta * np.maximum(np.asarray(eps_p, float), 0.0)) ** m.scg_n)
+    return hard * shear_modulus(m, P, T) / m.G0

@@ -1,0 +1,76 @@
+"""Units at the edge and readable deck errors."""
+
+import pytest
+
+from shockfriction.deck.base import DeckModel, validate
+from shockfriction.errors import DeckError
+from shockfriction.units import PositiveLength, Pressure, Temperature, UnitError, Velocity, to_si
+
+
+@pytest.mark.parametrize(
+    "text, kind, expected",
+    [
+        ("250 m/s", "velocity", 250.0),
+        ("10 GPa", "pressure", 1e10),
+        ("20 um", "length", 20e-6),
+        ("1 ns", "time", 1e-9),
+        ("26.85 degC", "temperature", 300.0),
+        ("1 kbar", "pressure", 1e8),
+        ("6.52 1/Mbar", "inverse_pressure", 6.52e-11),
+        ("117 W/(m*K)", "conductivity", 117.0),
+    ],
+)
+def test_to_si_converts_to_si(text, kind, expected):
+    assert to_si(text, kind) == pytest.approx(expected, rel=1e-12)
+
+
+def test_wrong_dimension_is_refused_with_the_expectation():
+    with pytest.raises(UnitError, match="expected a pressure such as '10 GPa'"):
+        to_si("10 m/s", "pressure")
+
+
+def test_bare_number_is_refused_for_a_dimensional_quantity():
+    with pytest.raises(UnitError, match="with its unit"):
+        to_si(10.0, "velocity")
+    assert to_si(0.3, "dimensionless") == 0.3
+
+
+class _Section(DeckModel):
+    thickness: PositiveLength
+    pressure: Pressure
+
+
+class _Deck(DeckModel):
+    velocity: Velocity
+    temperature: Temperature
+    layer: _Section
+
+
+def test_valid_deck_is_converted_once_to_si():
+    d = validate(_Deck, {"velocity": "200 m/s", "temperature": "300 K",
+                         "layer": {"thickness": "20 um", "pressure": "10 GPa"}})
+    assert d.layer.thickness == pytest.approx(2e-5)
+    assert d.layer.pressure == 1e10
+
+
+@pytest.mark.parametrize(
+    "data, fragments",
+    [
+        ({"velocity": "200 m/s", "temperature": "300 K", "layer": {"thickness": "20 um", "pressure": "10 m/s"}},
+         ["layer.pressure", "'10 m/s'", "pressure such as"]),
+        ({"velocity": "200 m/s", "temperature": "300 K", "layer": {"thickness": "-20 um", "pressure": "1 GPa"}},
+         ["layer.thickness", "'-20 um'", "greater than 0"]),
+        ({"velocity": "200 m/s", "layer": {"thickness": "20 um", "pressure": "1 GPa"}},
+         ["temperature is missing"]),
+        ({"velocity": "200 m/s", "temperature": "300 K", "colour": "red",
+          "layer": {"thickness": "20 um", "pressure": "1 GPa"}},
+         ["colour", "no such key"]),
+    ],
+)
+def test_bad_deck_message_names_field_value_and_expectation(data, fragments):
+    with pytest.raises(DeckError) as info:
+        validate(_Deck, data, "deck.toml")
+    msg = str(info.value)
+    assert msg.startswith("deck.toml: ")
+    for frag in fragments:
+        assert frag in msg
