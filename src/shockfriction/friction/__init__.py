@@ -1,0 +1,1 @@
+"""Friction laws and the sub-grid interface models."""

@@ -1,0 +1,1 @@
+"""Structured blocks of quadrilaterals (mapped quads), planar and axisymmetric geometry."""

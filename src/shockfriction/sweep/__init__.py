@@ -1,0 +1,1 @@
+"""Parameter sweeps and calibration: local process pool by default, Dask when asked."""
