@@ -110,7 +110,7 @@ def layer_modes(Y_eps: float, Y_theta: float, tau0: float, rho_c: float, kappa: 
         A[row, 2 * m: 3 * m] = D[row_node]
 
     w, vr = scipy.linalg.eig(A, B)
-    finite = np.isfinite(w) & (np.abs(w) < 1e12)
+    finite = np.isfinite(w)
     w, vr = w[finite], vr[:, finite]
     order = np.argsort(-w.real)
     w, vr = w[order], vr[:, order]

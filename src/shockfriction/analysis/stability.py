@@ -122,11 +122,23 @@ def growth_rate(c: ScgConstants, eps0, theta, pressure, wavenumber):
 
 
 def strain_limit_unclipped(c: ScgConstants, theta, pressure):
-    """The right-hand side of eq. 6.72 as printed (may be negative near melting; nan at/after melt)."""
-    _, dG = shear_modulus_and_slope(c, theta, pressure)
-    # alpha/kappa = 1/(rho c): n beta kappa/(alpha Y0) = n beta rho c / Y0
-    ratio = (c.n * c.beta * c.rho_c / c.Y0) * (c.G0 / -dG)
-    return ratio ** (1.0 / (c.n + 1.0)) / c.beta - 1.0 / c.beta
+    """The right-hand side of eq. 6.72 as printed (may be negative near melting; nan at/after melt).
+
+    Evaluated in logarithms: near T_F the melt factor exp(-xi theta/(T_F - theta)) underflows,
+    and -dG/dtheta = exp(-xi theta/(T_F - theta)) G0 (h + xi T_F (1 + g P - h (theta - 300))/(T_F - theta)^2).
+    """
+    theta = np.asarray(theta, float)
+    pressure = np.asarray(pressure, float)
+    linear = 1.0 + c.g * pressure - c.h * (theta - T_REF)
+    valid = (theta < c.T_melt) & (linear > 0.0)
+    gap = np.where(valid, c.T_melt - theta, 1.0)
+    with np.errstate(divide="ignore"):
+        log_slope = -c.xi * theta / gap + np.log(c.G0 * (c.h + c.xi * c.T_melt * linear / gap**2))
+        # alpha/kappa = 1/(rho c): n beta kappa/(alpha Y0) = n beta rho c / Y0
+        log_ratio = np.log(c.n * c.beta * c.rho_c / c.Y0) + np.log(c.G0) - log_slope
+    with np.errstate(over="ignore"):
+        limit = np.exp(log_ratio / (c.n + 1.0)) / c.beta - 1.0 / c.beta
+    return np.where(valid, limit, np.nan)
 
 
 def max_stable_strain(c: ScgConstants, theta, pressure):

@@ -8,6 +8,7 @@ from typing import Sequence
 import numpy as np
 
 DEFAULT_PRESSURES = (0.0, 40e9)
+MELT_MARGIN = 0.5  #: K below T_F where the curves stop
 
 
 def plot_stability_limit(materials: Sequence, path: str | Path, pressures: Sequence[float] = DEFAULT_PRESSURES,
@@ -29,8 +30,10 @@ def plot_stability_limit(materials: Sequence, path: str | Path, pressures: Seque
     fig, axes = plt.subplots(1, len(materials), figsize=(5.2 * len(materials), 4.0), squeeze=False)
     for ax, m in zip(axes[0], materials):
         c = ScgConstants.of(m)
-        # geometric spacing of T_F - theta: the limit drops steeply just below melting
-        theta = m.melting_temperature - np.geomspace(m.melting_temperature - 300.0, 1e-3, samples)
+        # geometric spacing of T_F - theta: the limit drops steeply just below melting. The
+        # curve stops 0.5 K below T_F: closer, dG/dtheta -> 0 with G itself (Ball-Winter factor)
+        # and eq. 6.72 rises again, an artefact of a strengthless state (docs/theory/60-analyses.md)
+        theta = m.melting_temperature - np.geomspace(m.melting_temperature - 300.0, MELT_MARGIN, samples)
         for P in pressures:
             ax.plot(theta, max_stable_strain(c, theta, P), label=f"|F_N| = {P / 1e9:g} GPa")
         ref = ScgConstants.of(m, xi=0.0)
@@ -43,6 +46,7 @@ def plot_stability_limit(materials: Sequence, path: str | Path, pressures: Seque
         ax.set_xlabel("temperature theta_0 (K)")
         ax.set_ylabel("largest stable plastic strain eps_p,0 (eq. 6.72)")
         ax.set_xlim(300.0, m.melting_temperature)
+        ax.set_ylim(top=1.1 * float(max_stable_strain(ref, 300.0, 0.0)))
         ax.set_ylim(bottom=0.0)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
