@@ -150,3 +150,42 @@ def max_stable_strain(c: ScgConstants, theta, pressure):
     """
     limit = strain_limit_unclipped(c, theta, pressure)
     return np.where(np.isnan(limit), np.nan, np.clip(limit, 0.0, c.saturation_strain))
+
+
+def inertial_growth_rate(c: ScgConstants, eps0: float, theta: float, pressure: float, wavenumber: float,
+                         density: float, plastic_rate: float = 0.0) -> complex:
+    """Most unstable root s of the linearised layer WITH shear inertia (not analysed in the thesis).
+
+    Normal modes exp(i k z + s t) of rho s dv = ik dtau, ik dv = sqrt(3) s deps, (6.28) and
+    (6.29) give the cubic [DERIVED, docs/theory/60-analyses.md]::
+
+        3 rho (rho c) s^3 + 3 rho (kappa k^2 - epsdot0 Y_theta) s^2
+            + (rho c Y_eps + sqrt(3) tau0 Y_theta) k^2 s + kappa Y_eps k^4 = 0
+
+    As rho -> 0 one root tends to eq. 6.48; the other two are thermoplastic shear waves
+    s ~ +-i k sqrt(Y_eps/(3 rho)) whose real part does not vanish with rho: by Routh-Hurwitz
+    they grow for k^2 > epsdot0 (rho c) margin/(kappa Y) (all k if epsdot0 = 0), at most at
+    :func:`inertial_growth_limit`.  Returns the root of largest real part.
+    """
+    m = scg_moduli(c, eps0, theta, pressure)
+    Y_eps, Y_theta, Y = float(m.Y_eps), float(m.Y_theta), float(m.Y)
+    k2 = float(wavenumber) ** 2
+    coefficients = [3.0 * density * c.rho_c,
+                    3.0 * density * (c.kappa * k2 - plastic_rate * Y_theta),
+                    (c.rho_c * Y_eps + Y * Y_theta) * k2,
+                    c.kappa * Y_eps * k2 * k2]
+    roots = np.roots(coefficients)
+    return complex(roots[np.argmax(roots.real)])
+
+
+def inertial_critical_wavenumber(c: ScgConstants, eps0, theta, pressure, plastic_rate: float):
+    """k_c = sqrt(epsdot0 (rho c) margin/(kappa Y)): with inertia, modes with k > k_c grow (Routh-Hurwitz)."""
+    m = scg_moduli(c, eps0, theta, pressure)
+    margin = m.Y_eps + m.Y * m.Y_theta / c.rho_c
+    return np.sqrt(np.maximum(plastic_rate * c.rho_c * margin / (c.kappa * m.Y), 0.0))
+
+
+def inertial_growth_limit(c: ScgConstants, eps0, theta, pressure, density: float):
+    """Short-wave limit of the inertial growth rate: -Y Y_theta/(6 rho kappa) (> 0 whenever Y_theta < 0)."""
+    m = scg_moduli(c, eps0, theta, pressure)
+    return -m.Y * m.Y_theta / (6.0 * density * c.kappa)
