@@ -69,3 +69,18 @@ def test_short_waves_grow_below_the_quasi_static_limit():
     kc = float(inertial_critical_wavenumber(c, eps, theta, 0.0, rate))
     assert inertial_growth_rate(c, eps, theta, 0.0, 0.9 * kc, rho, rate).real < 0
     assert inertial_growth_rate(c, eps, theta, 0.0, 1.1 * kc, rho, rate).real > 0
+
+
+def test_wave_growth_does_not_vanish_with_inertia():
+    """In the adiabatic-wave regime k << c_p/alpha the wave growth tends to
+    (alpha k^2/2) (-Y Y_theta/rho c)/(Y_eps + Y Y_theta/rho c), whatever rho: the quasi-static
+    limit N2 -> 0 is singular for the rate-independent layer."""
+    c = ScgConstants.of(AL)
+    theta = 600.0
+    eps = 0.5 * float(max_stable_strain(c, theta, 0.0))
+    m = scg_moduli(c, eps, theta, 0.0)
+    soft = -float(m.Y * m.Y_theta) / c.rho_c
+    k = 1e4
+    expected = 0.5 * (c.kappa / c.rho_c) * k * k * soft / (float(m.Y_eps) - soft)
+    for rho in (AL.rho0, AL.rho0 / 100, AL.rho0 / 1e4):
+        assert inertial_growth_rate(c, eps, theta, 0.0, k, rho).real == pytest.approx(expected, rel=1e-3)
