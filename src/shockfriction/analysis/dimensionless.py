@@ -37,7 +37,7 @@ Layer thicknesses (SI):
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 
 import numpy as np
 from scipy.optimize import brentq
@@ -134,7 +134,7 @@ class PairAnalysis:
     temperature: float
     threshold: float
     column_fraction: float
-    materials: tuple[MaterialAnalysis, MaterialAnalysis] = field(default_factory=tuple)
+    materials: tuple[MaterialAnalysis, MaterialAnalysis]
 
     def to_dict(self) -> dict:
         """JSON-ready dictionary (SI values, keys with their units)."""
@@ -170,7 +170,7 @@ def dimensionless_numbers(material: Material, time: float, velocity: float,
         "N5": m.Ymax / s.stress,
         "N6": m.Y0 / s.stress,
         "N7": m.melting_temperature / s.temperature,
-        "N8": velocity / s.velocity,
+        "N8": abs(velocity) / s.velocity,
         "N9": temperature / s.temperature,
         "N10": m.rho0 / s.density,
     }
@@ -208,12 +208,13 @@ def analyze_material(material: Material, other: Material, velocity: float, press
     flow = float(yield_stress(m, 0.0, abs(pressure), temperature))
     band = m.conductivity * m.melting_temperature / (flow * abs(velocity)) if flow > 0 and velocity else math.inf
     scg = ScgConstants.of(m)
+    scales = characteristic_scales(m, time)
     return MaterialAnalysis(
         material=m.name,
-        scales=characteristic_scales(m, time),
+        scales=scales,
         numbers=numbers,
         terms=terms,
-        thesis_thickness=characteristic_scales(m, time).thickness,
+        thesis_thickness=scales.thickness,
         thermal_depth=math.sqrt(m.diffusivity * time),
         column_depth=column_depth(m.diffusivity, time, column_fraction),
         shear_band_thickness=band,
