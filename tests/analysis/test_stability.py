@@ -148,3 +148,12 @@ def test_documented_artefact_within_a_kelvin_of_melting():
         i_min = int(np.argmin(lim))
         assert 0.3 < gaps[i_min] < 2.0
         assert lim[-1] > lim[0] > lim[i_min]
+
+
+def test_material_convenience_broadcasts_over_temperature_and_pressure():
+    theta = np.array([[300.0], [1100.0]])
+    P = np.array([0.0, 40e9])
+    from shockfriction.analysis.stability import stable_strain_limit
+    lim = stable_strain_limit(AL, theta, P)
+    assert lim.shape == (2, 2)
+    np.testing.assert_allclose(lim, [[1.169, 1.162], [1.110, 0.852]], atol=5.01e-4)

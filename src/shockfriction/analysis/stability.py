@@ -189,3 +189,8 @@ def inertial_growth_limit(c: ScgConstants, eps0, theta, pressure, density: float
     """Short-wave limit of the inertial growth rate: -Y Y_theta/(6 rho kappa) (> 0 whenever Y_theta < 0)."""
     m = scg_moduli(c, eps0, theta, pressure)
     return -m.Y * m.Y_theta / (6.0 * density * c.kappa)
+
+
+def stable_strain_limit(material, theta, pressure, xi: float | None = None):
+    """:func:`max_stable_strain` for a library material: theta (K) and |F_N| (Pa) broadcast."""
+    return max_stable_strain(ScgConstants.of(material, xi), theta, pressure)
