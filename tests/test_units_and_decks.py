@@ -74,3 +74,13 @@ def test_bad_deck_message_names_field_value_and_expectation(data, fragments):
     assert msg.startswith("deck.toml: ")
     for frag in fragments:
         assert frag in msg
+
+
+def test_cli_deck_error_keeps_bracketed_dimension_text(capsys):
+    """pint's '[length]' must survive the rich console (markup escaped)."""
+    from shockfriction.cli import main
+
+    with pytest.raises(SystemExit) as info:
+        main(["materials", "[nope]"])
+    assert info.value.code == 2
+    assert "'[nope]'" in capsys.readouterr().err
