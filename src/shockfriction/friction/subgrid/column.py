@@ -152,6 +152,8 @@ class ThermalColumns:
     successive cell sizes (1 = the thesis's uniform grid).
     """
 
+    CACHE_SIZE = 4
+
     def __init__(self, n_columns: int, thickness: float, n_cells: int, conductivity: float,
                  density: float, heat_capacity: float, T0: float = 300.0, grading: float = 1.0):
         if n_columns < 1:
@@ -169,17 +171,25 @@ class ThermalColumns:
         self._out = np.empty_like(self.theta)
         self.dt = math.nan
         self.factorisations = 0
+        self._cache: dict[float, tuple] = {}  # dt -> (mult, inv_bp, c, theta_unit), the last few steps
 
     @property
     def n_nodes(self) -> int:
         return self.z.size
 
     def prepare(self, dt: float) -> None:
-        """Factor K and compute the unit-flux response for ``dt``; reused while dt does not change."""
+        """Factor K and compute the unit-flux response for ``dt``; reused while dt does not change.
+
+        The factors of the last ``CACHE_SIZE`` distinct steps are kept (alternating steps cost nothing).
+        """
         if dt == self.dt:
             return
         if not (dt > 0.0 and math.isfinite(dt)):
             raise ValueError(f"time step must be positive and finite, got {dt!r}")
+        if dt in self._cache:
+            self.mult, self.inv_bp, self.c, self.theta_unit = self._cache[dt]
+            self.dt = dt
+            return
         a, b, c = heat_matrix(self.z, self.alpha, dt)
         self.mult, self.inv_bp = thomas_factor(a, b, c)
         self.c = c
@@ -190,6 +200,9 @@ class ThermalColumns:
         self.theta_unit = unit  #: temperature rise per W/m^2 of interface flux over one step, K m^2/W
         self.dt = dt
         self.factorisations += 1
+        if len(self._cache) >= self.CACHE_SIZE:
+            self._cache.pop(next(iter(self._cache)))
+        self._cache[dt] = (self.mult, self.inv_bp, self.c, self.theta_unit)
 
     def adiabatic(self, dt: float, source: np.ndarray | None = None) -> np.ndarray:
         """theta_ad (eq. 7.68): the step with zero interface flux; ``source`` is s (W/m^3), (n_columns, n_nodes)."""

@@ -38,7 +38,8 @@ Returns ``(tau, slip_corrected)``:
     sign(v_free) tau S dt (1/m_slave + 1/m_guide) (thesis eq. 7.99 with the sign erratum of
     digest §9 item 6 fixed).  It never reverses the slip: tau <= tau_stick =
     m_r |v_free|/(S dt), m_r = m_slave m_guide/(m_slave + m_guide) (reduced-mass sticking force
-    F* of eq. 6.82), and tau = tau_stick gives slip_corrected = 0 (the node sticks).
+    F* of eq. 6.82), and tau = tau_stick gives slip_corrected = 0 (the node sticks).  A node with
+    ``v_free == 0`` needs no friction and gets tau = 0 (also when the slip is imposed).
 
 The stress is tau = min(mu0 sigma_n, tau_stick, f Ymax/sqrt(3) G(sigma_n, Theta(0))/G0)
 (Coulomb cap, sticking cap and the thesis's SCG branch, eq. 7.12 / 8.28), solved together
@@ -169,6 +170,7 @@ class SubgridInterface:
         k = S * dt * inv_sum  # slip change per unit friction stress
         with np.errstate(divide="ignore", invalid="ignore"):
             tau_stick = np.where(inv_sum > 0.0, np.abs(vf) / np.where(k > 0.0, k, 1.0), np.inf)
+        tau_stick[vf == 0.0] = 0.0  # no free slip: no friction needed, none generated
         in_contact = sig > 0.0
         tau_cap = np.where(in_contact, np.minimum(self.mu0 * np.where(in_contact, sig, 0.0), tau_stick), 0.0)
         F_N = np.where(in_contact, sig, 0.0)
