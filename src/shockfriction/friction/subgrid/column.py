@@ -103,6 +103,22 @@ def adiabatic_solve_batched(theta, source_dt, mult, inv_bp, c, active, out):
             out[j, i] = rhs[i]
 
 
+@njit(cache=True)
+def affine_update(theta_ad, q_in, theta_unit, limit, out):
+    """out = theta_ad + q_in theta_unit (eq. 7.70) for every column; return the flat index of the
+    first value that is not finite or not below ``limit`` (the melting temperature), else -1."""
+    ncol, n = theta_ad.shape
+    bad = -1
+    for j in range(ncol):
+        q = q_in[j]
+        for i in range(n):
+            v = theta_ad[j, i] + q * theta_unit[i]
+            out[j, i] = v
+            if bad < 0 and not v < limit:
+                bad = j * n + i
+    return bad
+
+
 # --------------------------------------------------------------------------- grids
 def make_grid(thickness: float, n_cells: int, grading: float = 1.0) -> np.ndarray:
     """Node positions z_0 = 0 .. z_M = h; uniform (grading = 1, thesis eq. 6.73) or geometric dz_i = dz_0 r^i."""

@@ -54,7 +54,8 @@ thermoelastic model), ``flux_in`` (beta_T tau [v], W/m^2 entering the column), `
 (Brent steps), and cumulative energies per unit area (J/m^2): ``friction_work`` (sum of
 tau |[V]^n| dt), ``heat_interface`` (sum of flux_in dt), ``heat_plastic`` (plastic heat
 deposited in the column), ``heat_stored`` (rho c int (theta - T0) dz).  Per-node profiles:
-``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z``.
+``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a buffer that the next step
+replaces: copy it to keep it).
 """
 
 from __future__ import annotations
@@ -64,10 +65,10 @@ import math
 import numpy as np
 
 from shockfriction.errors import SimulationError
-from shockfriction.friction.subgrid.column import ThermalColumns
+from shockfriction.friction.subgrid.column import ThermalColumns, affine_update
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
                                                            solve_thermoelastic)
-from shockfriction.friction.subgrid.thermoelastoplastic import solve_thermoelastoplastic
+from shockfriction.friction.subgrid.thermoelastoplastic import solve_thermoelastoplastic, update_hardening
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic")
@@ -110,6 +111,8 @@ class SubgridInterface:
         self.xtol, self.max_iter = float(xtol), int(max_iter)
         n, nn = self.n_columns, self.columns.n_nodes
         self.eps_p = np.zeros((n, nn))
+        self._hard = np.ones((n, nn))  # (1 + beta eps_p)^n
+        self._new = np.empty((n, nn))
         self._pending_plastic_heat = np.zeros((n, nn))  # J/m^3, deposited next step (lagged source)
         self._deps = np.zeros((n, nn))
         for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
@@ -188,24 +191,24 @@ class SubgridInterface:
                                 self.iterations, self._status)
             self.slip_plastic[:] = 0.0
         else:
-            solve_thermoelastoplastic(theta_ad, unit, self.columns.weights, self.eps_p, F_N,
+            solve_thermoelastoplastic(theta_ad, unit, self.columns.weights, self.eps_p, self._hard, F_N,
                                       np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T,
                                       self.f, self.scg, dt, self.xtol, self.max_iter, self._theta_s, tau,
                                       self._v_half, self.slip_local, self.slip_plastic, q_in, self._deps,
                                       self.iterations, self._status)
         self._check(when)
-        new = self.columns.affine(theta_ad, q_in)
+        new = self._new
         T_F = self.material.melting_temperature
-        hot = new.max(axis=1) >= T_F
-        if hot.any() or not np.all(np.isfinite(new)):
-            j = int(np.argmax(hot | ~np.isfinite(new).all(axis=1)))
-            i = int(np.argmax(new[j]))
+        bad = affine_update(theta_ad, q_in, unit, T_F, new)
+        if bad >= 0:
+            j, i = divmod(int(bad), new.shape[1])
             raise SimulationError(f"sub-grid step {when}: column {j} reached {new[j, i]!r} K at z = {self.z[i]:.3e} m "
                                   f"(melting {T_F} K)")
         heated = (q_in != 0.0)
         if source is not None:
             heated |= deposited != 0.0
-        self.columns.commit(new, heated)
+        self._new, self.columns.theta = self.columns.theta, new  # swap buffers instead of copying
+        self.columns.active |= heated
         self.theta_interface[:] = new[:, 0]
         v_half = self._v_half.copy()
         self.slip_macro[:] = np.abs(0.5 * (v_half + vp))
@@ -213,7 +216,7 @@ class SubgridInterface:
         self.heat_interface += q_in * dt
         if self.model == "thermoelastoplastic":
             self.heat_plastic += deposited
-            self.eps_p += self._deps
+            update_hardening(self.eps_p, self._deps, self._hard, self.scg)
             self._pending_plastic_heat[...] = self.beta_Q * SQRT3 * tau[:, None] * self._deps
         return tau.copy(), v_half
 

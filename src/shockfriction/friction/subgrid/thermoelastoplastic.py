@@ -43,41 +43,67 @@ from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, 
 
 
 @njit(cache=True)
-def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, p, out):
-    """Fill ``out`` with d_eps at every node for shear ``tau`` and trial flux ``q``; return integral weights later.
+def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, p, out):
+    """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit.
 
-    Returns False if some node of the trial profile has no strength left (G = 0, at T_F).
+    ``hard`` = (1 + beta eps_prev)^n: a node flows iff sqrt(3) tau/(Y0 G/G0) > hard.  Nodes that
+    cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min
+    with E_min the melt factor at the hottest trial temperature.  Returns False if some node has no
+    strength left (G = 0 at T_F).
     """
     Y0, beta, n = p[I_Y0], p[I_BETA], p[I_N]
     g, h, xi, T_F = p[I_G], p[I_H], p[I_XI], p[I_TF]
-    s = SQRT3 * tau / Y0
-    for i in range(theta_ad.shape[0]):
+    nn = theta_ad.shape[0]
+    for i in range(nn):
         out[i] = 0.0
-        if tau <= 0.0:
-            continue
+    if tau <= 0.0:
+        return True
+    th_max = -math.inf
+    for i in range(nn):
         th = theta_ad[i] + q * theta_unit[i]
+        if th > th_max:
+            th_max = th
+    if th_max >= T_F:
+        return False
+    e_min = math.exp(-xi * th_max / (T_F - th_max))
+    s = SQRT3 * tau / Y0
+    lin0 = 1.0 + g * F_N + h * 300.0
+    for i in range(nn):
+        th = theta_ad[i] + q * theta_unit[i]
+        if (lin0 - h * th) * e_min * hard[i] >= s:
+            continue  # G/G0 * hardening already carries tau: elastic
         r = scg_shear_ratio(F_N, th, g, h, xi, T_F)
         if r <= 0.0:
             return False
         x = s / r
-        if x <= 1.0:
-            continue  # below the initial yield: elastic
-        target = (x ** (1.0 / n) - 1.0) / beta
-        d = target - eps_prev[i]
+        if x <= hard[i]:
+            continue
+        d = (x ** (1.0 / n) - 1.0) / beta - eps_prev[i]
         if d > 0.0:
             out[i] = d
     return True
 
 
 @njit(cache=True)
-def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, F_N, v_free, v_prev, k, tau_cap,
+def update_hardening(eps, deps, hard, p):
+    """eps += deps and hard = (1 + beta eps)^n where the strain grew (all columns)."""
+    beta, n = p[I_BETA], p[I_N]
+    for j in range(eps.shape[0]):
+        for i in range(eps.shape[1]):
+            if deps[j, i] > 0.0:
+                eps[j, i] += deps[j, i]
+                hard[j, i] = (1.0 + beta * eps[j, i]) ** n
+
+
+@njit(cache=True)
+def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, F_N, v_free, v_prev, k, tau_cap,
               beta_T, f, p, dt, deps):
     """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate)."""
     tau = friction_stress(F_N, theta, tau_cap, f, p)
     vh = corrected_slip(v_free, tau, k)
     v_mac = abs(0.5 * (vh + v_prev))
     q = (theta - theta_ad[0]) / a0
-    ok = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, p, deps)
+    ok = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, p, deps)
     if ok:
         rate = SQRT3 * np.dot(weights, deps) / dt
         v_loc = v_mac - rate
@@ -90,7 +116,7 @@ def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, F_N, v_free, v
 
 
 @njit(cache=True)
-def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, F_N, v_free, v_prev, k, tau_cap,
+def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N, v_free, v_prev, k, tau_cap,
                               beta_T, f, p, dt, xtol, max_iter,
                               theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status):
     """Per-column interface solve with plasticity (Algorithm 2).  2D arrays are (n_columns, n_nodes).
@@ -125,7 +151,7 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, F_N, v_fr
             continue
         hi = t_ad + a0 * q_max
         lo = t_ad
-        r_lo, _, _, _, _ = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], F_N[j], v_free[j], v_prev[j],
+        r_lo, _, _, _, _ = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hard[j], F_N[j], v_free[j], v_prev[j],
                                      k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
         x = lo
         if r_lo < 0.0:
@@ -137,14 +163,14 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, F_N, v_fr
                 if done:
                     converged = True
                     break
-                r, _, _, _, _ = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], F_N[j], v_free[j],
+                r, _, _, _, _ = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hard[j], F_N[j], v_free[j],
                                           v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
                 brent_feed(st, r)
                 iters[j] = it + 1
             if not converged:
                 status[j] = NO_CONVERGENCE
             x = st[B] if st[FB] >= 0.0 else st[C]
-        r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], F_N[j], v_free[j], v_prev[j],
+        r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hard[j], F_N[j], v_free[j], v_prev[j],
                                        k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
             status[j] = ABOVE_MELT
