@@ -73,7 +73,7 @@ class Baseline:
     def deps(self, tau, T_ad, q, eps):
         m = AL
         r = shear_ratio(SIGMA, T_ad + q * self.unit, m.scg_g, m.scg_h, m.scg_xi, m.melting_temperature)
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore"):
             x = math.sqrt(3) * tau / (m.Y0 * r)
         target = np.where(x > 1.0, (np.maximum(x, 1.0) ** (1 / m.scg_n) - 1) / m.scg_beta, 0.0)
         return np.maximum(target - eps, 0.0)

@@ -1,7 +1,6 @@
 """``shockfriction subgrid``: examples run and write the documented files; bad decks exit 2, bad runs exit 3."""
 
 import csv
-import math
 from pathlib import Path
 
 import numpy as np

@@ -55,6 +55,9 @@ def plot_profiles(z, times, profiles, eps_profiles, path: Path, column: int = 0,
     ax2.set_ylabel("equivalent plastic strain")
     if times:
         ax1.legend(fontsize=8)
+    if not any(np.any(ep[column] > 0.0) for ep in eps_profiles):
+        ax2.text(0.5, 0.5, "no plastic strain\n(thermoelastic or pure thermal run)", ha="center", va="center",
+                 transform=ax2.transAxes)
     if title:
         fig.suptitle(title)
     fig.tight_layout()

@@ -31,7 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
-from shockfriction.friction.subgrid.rootfind import B, BRENT_STATE, C, FB, FC, brent_feed, brent_next, brent_start
+from shockfriction.friction.subgrid.rootfind import B, BRENT_STATE, C, FB, brent_feed, brent_next, brent_start
 from shockfriction.materials.strength import I_G, I_H, I_TF, I_XI, I_YMAX, scg_shear_ratio
 
 SQRT3 = math.sqrt(3.0)
