@@ -133,3 +133,21 @@ def test_within_one_kelvin_of_melting(model):
     print(f"\n{model}: from T_F - 0.5 K, Theta(0) = {sg.theta_interface[0]:.6f} K, tau = {tau[0]:.3e} Pa, "
           f"iterations {sg.iterations[0]}")
     assert sg.iterations[0] <= 40
+
+
+def test_strong_layer_case_takes_the_slip_plastically_and_balances_energy():
+    """f = 0.9 (the CEA best fit): the closed-form strain would exceed the step's slip; the kinematic
+    limit gives plastic slip = macroscopic slip, [v] = 0, and the energy identities hold every step."""
+    sg = SubgridInterface(1, AL, ST, model="thermoelastoplastic", mu0=0.3, f=0.9)
+    worst = 0.0
+    for n in range(1, 301):
+        sg.step(10e9, 200.0, 200.0, INF, INF, 1.0, 1e-9)
+        assert sg.slip_plastic[0] == pytest.approx(200.0, rel=1e-12) and sg.slip_local[0] == 0.0
+        fw = sg.friction_work[0]
+        worst = max(worst, abs(fw - sg.heat_interface[0] / sg.beta_T - sg.plastic_work[0]) / fw)
+        if n > 1:
+            worst = max(worst, abs(sg.heat_stored[0] - sg.heat_interface[0] - sg.heat_plastic[0]) / sg.heat_stored[0])
+    # uniform shear 200 m/s x 1 ns over 20 um: sqrt(3) eps h = V dt per step
+    assert sg.eps_p[0, -1] == pytest.approx(300 * 200.0 * 1e-9 / (math.sqrt(3) * 20e-6), rel=1e-9)
+    print(f"\nf = 0.9: Theta(0) = {sg.theta_interface[0]:.1f} K after 0.3 us, energy identities {worst:.1e}")
+    assert worst < 1e-10 and sg.theta.max() < AL.melting_temperature

@@ -52,8 +52,10 @@ temperature at z = 0), ``slip_macro`` (|[V]^n|, m/s), ``slip_local`` ([v]^n, m/s
 interface slip that heats), ``slip_plastic`` (sqrt(3) int d_eps dz/dt, m/s; 0 for the
 thermoelastic model), ``flux_in`` (beta_T tau [v], W/m^2 entering the column), ``iterations``
 (Brent steps), and cumulative energies per unit area (J/m^2): ``friction_work`` (sum of
-tau |[V]^n| dt), ``heat_interface`` (sum of flux_in dt), ``heat_plastic`` (plastic heat
-deposited in the column), ``heat_stored`` (rho c int (theta - T0) dz).  Per-node profiles:
+tau |[V]^n| dt), ``heat_interface`` (sum of flux_in dt), ``plastic_work`` (sum of sqrt(3) tau
+int d_eps dz), ``heat_plastic`` (plastic heat deposited in the column, beta_Q times the plastic work,
+one step late), ``heat_stored`` (rho c int (theta - T0) dz).  Balances: friction_work =
+heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_plastic.  Per-node profiles:
 ``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a buffer that the next step
 replaces: copy it to keep it).
 """
@@ -116,7 +118,7 @@ class SubgridInterface:
         self._pending_plastic_heat = np.zeros((n, nn))  # J/m^3, deposited next step (lagged source)
         self._deps = np.zeros((n, nn))
         for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
-                     "friction_work", "heat_interface", "heat_plastic"):
+                     "friction_work", "heat_interface", "heat_plastic", "plastic_work"):
             setattr(self, name, np.zeros(n))
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
@@ -217,6 +219,7 @@ class SubgridInterface:
         if self.model == "thermoelastoplastic":
             self.heat_plastic += deposited
             update_hardening(self.eps_p, self._deps, self._hard, self.scg)
+            self.plastic_work += SQRT3 * tau * (self._deps @ self.columns.weights)
             self._pending_plastic_heat[...] = self.beta_Q * SQRT3 * tau[:, None] * self._deps
         return tau.copy(), v_half
 

@@ -10,9 +10,12 @@ Closed-form plastic strain (eq. 8.13 / 8.42, unsaturated SCG as in the thesis)::
 (the spurious "* dt" of 8.39/8.41 dropped, digest §9 item 13).  Local slip (eq. 8.35-8.37,
 trapezoid rule with the column's control-volume weights)::
 
-    [v] = max(0, |[V]^n| - sqrt(3)/dt * integral d_eps dz)
+    [v] = |[V]^n| - sqrt(3)/dt * integral d_eps dz
 
-(clamped at 0: the layer cannot shear faster than the macroscopic slip).  Heat: q_in =
+Kinematic limit (our choice; the thesis is silent): where the closed-form increments would shear
+the layer faster than the macroscopic slip, they are scaled down so that the plastic slip equals
+|[V]^n| and [v] = 0.  The plastic work sqrt(3) tau int d_eps dz then never exceeds the friction
+work tau |[V]^n| dt, and friction work = interface heat / beta_T + plastic work holds exactly.  Heat: q_in =
 beta_T tau [v] at z = 0 and the plastic heat beta_Q sqrt(3) tau d_eps (J/m^3, Taylor-Quinney)
 deposited in the next step's adiabatic solve (lagged source, eq. 8.46; depositing the energy
 rather than the rate keeps the balance exact when dt changes).
@@ -106,9 +109,12 @@ def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, F_N, v_f
     ok = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, p, deps)
     if ok:
         rate = SQRT3 * np.dot(weights, deps) / dt
+        if rate > v_mac:  # kinematic limit: the layer takes at most the macroscopic slip of the step
+            scale = v_mac / rate
+            for i in range(deps.shape[0]):
+                deps[i] *= scale
+            rate = v_mac
         v_loc = v_mac - rate
-        if v_loc < 0.0:
-            v_loc = 0.0
     else:
         rate = math.inf
         v_loc = 0.0
