@@ -144,3 +144,18 @@ def test_a_run_that_melts_exits_3_and_leaves_readable_output(tmp_path, capsys):
     header, data = read(tmp_path / "o" / "history.csv")
     assert ",".join(header) == HISTORY_HEADER and data.shape[0] >= 1 and np.all(np.isfinite(data[:, 1]))
     assert data[-1, 1] < get_material("Al5083-H111").melting_temperature
+
+
+@pytest.mark.parametrize("example", ["ball_al_200ms.toml", "prakash_9702.toml"])
+def test_examples_run_with_the_other_model(tmp_path, example):
+    text = (EXAMPLES / example).read_text()
+    assert 'model = "thermoelastic"' in text
+    deck = tmp_path / example
+    deck.write_text(text.replace('model = "thermoelastic"', 'model = "thermoelastoplastic"', 1))
+    assert run(["subgrid", str(deck), "--out", str(tmp_path / "o"), "--no-plots"]) in (0, None)
+    header, data = read(tmp_path / "o" / "history.csv")
+    assert ",".join(header) == HISTORY_HEADER and np.all(np.isfinite(data[:, 1]))
+    if example.startswith("ball"):
+        _, prof = read(tmp_path / "o" / "profiles.csv")
+        assert prof[:, 3].max() == pytest.approx(1.752e-3, rel=1e-3)  # the first-step yield (digest §9 item 17)
+        assert 1215.0 < data[-1, 1] < 1220.0

@@ -180,8 +180,9 @@ class SubgridInterface:
         tau_cap = np.where(in_contact, np.minimum(self.mu0 * np.where(in_contact, sig, 0.0), tau_stick), 0.0)
         F_N = np.where(in_contact, sig, 0.0)
 
-        source = self._pending_plastic_heat / dt if self.model == "thermoelastoplastic" else None
-        deposited = self._pending_plastic_heat @ self.columns.weights
+        plastic = self.model == "thermoelastoplastic"
+        source = self._pending_plastic_heat / dt if plastic else None
+        deposited = self._pending_plastic_heat @ self.columns.weights if plastic else None
         theta_ad = self.columns.adiabatic(dt, source)
         unit = self.columns.theta_unit
         tau = self.tau
@@ -207,7 +208,7 @@ class SubgridInterface:
             raise SimulationError(f"sub-grid step {when}: column {j} reached {new[j, i]!r} K at z = {self.z[i]:.3e} m "
                                   f"(melting {T_F} K)")
         heated = (q_in != 0.0)
-        if source is not None:
+        if plastic:
             heated |= deposited != 0.0
         self._new, self.columns.theta = self.columns.theta, new  # swap buffers instead of copying
         self.columns.active |= heated
@@ -216,7 +217,7 @@ class SubgridInterface:
         self.slip_macro[:] = np.abs(0.5 * (v_half + vp))
         self.friction_work += tau * self.slip_macro * dt
         self.heat_interface += q_in * dt
-        if self.model == "thermoelastoplastic":
+        if plastic:
             self.heat_plastic += deposited
             update_hardening(self.eps_p, self._deps, self._hard, self.scg)
             self.plastic_work += SQRT3 * tau * (self._deps @ self.columns.weights)
