@@ -86,21 +86,40 @@ def thomas_apply(mult, inv_bp, c, d, x):
 def adiabatic_solve_batched(theta, source_dt, mult, inv_bp, c, active, out):
     """theta_ad for every column: K theta_ad = theta + source_dt (rows of 2D arrays).
 
-    ``source_dt`` is dt*s/(rho c) in K (None-free: pass zeros); columns with
-    ``active[j] == False`` are uniform and source-free, so theta_ad = theta there.
+    ``source_dt`` is dt*s/(rho c) in K (pass zeros for none); columns with ``active[j] == False``
+    are uniform and source-free, so theta_ad = theta there.  The factored Thomas sweeps run on
+    blocks of 8 columns at once (independent recurrences interleaved: about twice the speed of
+    one column after the other).
     """
     ncol, n = theta.shape
-    rhs = np.empty(n)
+    idx = np.empty(ncol, np.int64)
+    na = 0
     for j in range(ncol):
-        if not active[j]:
+        if active[j]:
+            idx[na] = j
+            na += 1
+        else:
             for i in range(n):
                 out[j, i] = theta[j, i]
-            continue
-        for i in range(n):
-            rhs[i] = theta[j, i] + source_dt[j, i]
-        thomas_apply(mult, inv_bp, c, rhs, rhs)
-        for i in range(n):
-            out[j, i] = rhs[i]
+    for s in range(0, na, 8):
+        e = min(s + 8, na)
+        for b in range(s, e):
+            j = idx[b]
+            out[j, 0] = theta[j, 0] + source_dt[j, 0]
+        for i in range(1, n):
+            m = mult[i]
+            for b in range(s, e):
+                j = idx[b]
+                out[j, i] = theta[j, i] + source_dt[j, i] - m * out[j, i - 1]
+        for b in range(s, e):
+            j = idx[b]
+            out[j, n - 1] *= inv_bp[n - 1]
+        for i in range(n - 2, -1, -1):
+            ci = c[i]
+            ib = inv_bp[i]
+            for b in range(s, e):
+                j = idx[b]
+                out[j, i] = (out[j, i] - ci * out[j, i + 1]) * ib
 
 
 @njit(cache=True)
