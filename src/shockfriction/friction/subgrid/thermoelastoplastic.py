@@ -46,45 +46,51 @@ from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, 
 
 
 @njit(cache=True)
-def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, p, out):
-    """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit.
+def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out):
+    """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit;
+    return the trapezoid integral sum_i w_i d_eps_i, or -1 if some node has no strength left (G = 0).
 
     ``hard`` = (1 + beta eps_prev)^n: a node flows iff sqrt(3) tau/(Y0 G/G0) > hard.  Nodes that
-    cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min
-    with E_min the melt factor at the hottest trial temperature.  Returns False if some node has no
-    strength left (G = 0 at T_F).
+    cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min,
+    E_min the melt factor at an upper bound of the trial temperatures (ad_max + q unit_max, or the
+    exact maximum near melting).
     """
     Y0, beta, n = p[I_Y0], p[I_BETA], p[I_N]
     g, h, xi, T_F = p[I_G], p[I_H], p[I_XI], p[I_TF]
     nn = theta_ad.shape[0]
-    for i in range(nn):
-        out[i] = 0.0
     if tau <= 0.0:
-        return True
-    th_max = -math.inf
-    for i in range(nn):
-        th = theta_ad[i] + q * theta_unit[i]
-        if th > th_max:
-            th_max = th
-    if th_max >= T_F:
-        return False
+        for i in range(nn):
+            out[i] = 0.0
+        return 0.0
+    th_max = ad_max + q * unit_max
+    if th_max >= T_F:  # the bound is too loose near melting: take the exact maximum
+        th_max = -math.inf
+        for i in range(nn):
+            th = theta_ad[i] + q * theta_unit[i]
+            if th > th_max:
+                th_max = th
+        if th_max >= T_F:
+            return -1.0
     e_min = math.exp(-xi * th_max / (T_F - th_max))
     s = SQRT3 * tau / Y0
     lin0 = 1.0 + g * F_N + h * 300.0
+    integral = 0.0
     for i in range(nn):
+        out[i] = 0.0
         th = theta_ad[i] + q * theta_unit[i]
         if (lin0 - h * th) * e_min * hard[i] >= s:
             continue  # G/G0 * hardening already carries tau: elastic
         r = scg_shear_ratio(F_N, th, g, h, xi, T_F)
         if r <= 0.0:
-            return False
+            return -1.0
         x = s / r
         if x <= hard[i]:
             continue
         d = (x ** (1.0 / n) - 1.0) / beta - eps_prev[i]
         if d > 0.0:
             out[i] = d
-    return True
+            integral += weights[i] * d
+    return integral
 
 
 @njit(cache=True)
@@ -99,16 +105,17 @@ def update_hardening(eps, deps, hard, p):
 
 
 @njit(cache=True)
-def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, F_N, v_free, v_prev, k, tau_cap,
-              beta_T, f, p, dt, deps):
+def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, unit_max, F_N, v_free, v_prev,
+              k, tau_cap, beta_T, f, p, dt, deps):
     """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate)."""
     tau = friction_stress(F_N, theta, tau_cap, f, p)
     vh = corrected_slip(v_free, tau, k)
     v_mac = abs(0.5 * (vh + v_prev))
     q = (theta - theta_ad[0]) / a0
-    ok = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, p, deps)
-    if ok:
-        rate = SQRT3 * np.dot(weights, deps) / dt
+    integral = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max,
+                                  p, deps)
+    if integral >= 0.0:
+        rate = SQRT3 * integral / dt
         if rate > v_mac:  # kinematic limit: the layer takes at most the macroscopic slip of the step
             scale = v_mac / rate
             for i in range(deps.shape[0]):
@@ -134,6 +141,10 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
     T_F = p[I_TF]
     a0 = theta_unit[0]
     nn = theta_unit.shape[0]
+    unit_max = 0.0
+    for i in range(nn):
+        if theta_unit[i] > unit_max:
+            unit_max = theta_unit[i]
     for j in range(theta_ad.shape[0]):
         iters[j] = 0
         status[j] = OK
@@ -144,7 +155,10 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
             status[j] = BAD_INPUT
             continue
         q_max = math.inf
+        ad_max = -math.inf
         for i in range(nn):
+            if row[i] > ad_max:
+                ad_max = row[i]
             if row[i] >= T_F:
                 q_max = -1.0
                 break
@@ -157,8 +171,8 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
             continue
         hi = t_ad + a0 * q_max
         lo = t_ad
-        r_lo, _, _, _, _ = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hard[j], F_N[j], v_free[j], v_prev[j],
-                                     k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
+        r_lo, _, _, _, _ = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hard[j], ad_max, unit_max,
+                                     F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
         x = lo
         if r_lo < 0.0:
             r_hi = hi - t_ad  # at the upper end tau [v] = 0
@@ -169,15 +183,15 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
                 if done:
                     converged = True
                     break
-                r, _, _, _, _ = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hard[j], F_N[j], v_free[j],
-                                          v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
+                r, _, _, _, _ = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hard[j], ad_max, unit_max,
+                                          F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
                 brent_feed(st, r)
                 iters[j] = it + 1
             if not converged:
                 status[j] = NO_CONVERGENCE
             x = st[B] if st[FB] >= 0.0 else st[C]
-        r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hard[j], F_N[j], v_free[j], v_prev[j],
-                                       k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
+        r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hard[j], ad_max, unit_max,
+                                       F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
             status[j] = ABOVE_MELT
         theta_s[j] = x
