@@ -181,9 +181,8 @@ class SubgridInterface:
         F_N = np.where(in_contact, sig, 0.0)
 
         plastic = self.model == "thermoelastoplastic"
-        source = self._pending_plastic_heat / dt if plastic else None
         deposited = self._pending_plastic_heat @ self.columns.weights if plastic else None
-        theta_ad = self.columns.adiabatic(dt, source)
+        theta_ad = self.columns.adiabatic(dt, deposit=self._pending_plastic_heat if plastic else None)
         unit = self.columns.theta_unit
         tau = self.tau
         q_in = self.flux_in
@@ -221,7 +220,7 @@ class SubgridInterface:
             self.heat_plastic += deposited
             update_hardening(self.eps_p, self._deps, self._hard, self.scg)
             self.plastic_work += SQRT3 * tau * (self._deps @ self.columns.weights)
-            self._pending_plastic_heat[...] = self.beta_Q * SQRT3 * tau[:, None] * self._deps
+            np.multiply(self._deps, (self.beta_Q * SQRT3) * tau[:, None], out=self._pending_plastic_heat)
         return tau.copy(), v_half
 
     # ------------------------------------------------------------------ helpers
