@@ -99,6 +99,14 @@ def test_time_step_change_reuses_factors_and_keeps_energy():
     assert np.allclose(sg.friction_work * sg.beta_T, sg.heat_interface, rtol=1e-12)
 
 
+def test_nodes_out_of_contact_may_have_zero_area():
+    sg = make(2)
+    tau, slip = sg.step([-1e9, 0.0], [10.0, -5.0], [10.0, -5.0], 1e-9, 1e-9, 0.0, 1e-9)
+    assert np.all(tau == 0.0) and list(slip) == [10.0, -5.0]
+    with pytest.raises(SimulationError, match="node 1"):
+        sg.step([-1e9, 1e9], 10.0, 10.0, 1e-9, 1e-9, [0.0, 0.0], 1e-9)
+
+
 def test_bad_input_raises_a_simulation_error_naming_node_and_cycle():
     sg = make(3)
     with pytest.raises(SimulationError, match=r"cycle 7, t = 7\.0+e-09 s.*node 1"):

@@ -22,7 +22,7 @@ Inputs of ``step(sigma_n, v_free, slip_prev, m_slave, m_guide, area, dt)``:
     mass of the slave node and of its projection on the guide surface.  ``np.inf`` for a
     rigid partner; both ``np.inf`` imposes the slip (the uncoupled solvers of §7.3.2, §8.2).
 ``area`` (m^2)
-    the slave node's contact area S.
+    the slave node's contact area S (> 0 where ``sigma_n > 0``; 0 is accepted out of contact).
 ``dt`` (s)
     the hydro step (the columns use the same step; factors are reused while it is unchanged).
 
@@ -164,8 +164,8 @@ class SubgridInterface:
         when = self._when(cycle, time)
         if not (dt > 0.0 and math.isfinite(dt)):
             raise SimulationError(f"sub-grid step {when}: time step {dt!r} is not positive and finite")
-        bad = ~(np.isfinite(sig) & np.isfinite(vf) & np.isfinite(vp) & (ms > 0) & (mg > 0) & (S > 0)
-                & np.isfinite(S))
+        bad = ~(np.isfinite(sig) & np.isfinite(vf) & np.isfinite(vp) & (ms > 0) & (mg > 0) & (S >= 0)
+                & np.isfinite(S) & ((S > 0) | (sig <= 0)))  # a node out of contact may have no area
         if bad.any():
             j = int(np.argmax(bad))
             raise SimulationError(f"sub-grid step {when}: bad input at node {j}: sigma_n={sig[j]!r}, "
