@@ -52,7 +52,7 @@ def _pair(x, y, slave, guide, sign=1.0, max_gap=1.0, max_pen=1.0):
     seg = np.empty(n, np.int64)
     out = [np.empty(n) for _ in range(6)]
     active = np.empty(n, np.bool_)
-    pair_slave_nodes(x, y, slave, guide, sign, max_gap, max_pen, seg, *out, active)
+    pair_slave_nodes(x, y, slave, x[guide].copy(), y[guide].copy(), sign, max_gap, max_pen, seg, *out, active)
     return seg, out, active
 
 

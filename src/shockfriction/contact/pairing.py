@@ -32,15 +32,19 @@ COEF_TOL = 1e-9
 
 
 @njit(cache=True)
-def pair_slave_nodes(x, y, slave, guide, normal_sign, max_gap, max_penetration,
+def pair_slave_nodes(x, y, slave, gx, gy, normal_sign, max_gap, max_penetration,
                      seg, coef, nx, ny, tx, ty, gap, active):
     """Associate every slave node with its guide segment (or convex corner); fill the output arrays.
+
+    ``x, y`` are the nodal coordinates, ``slave`` the slave node indices and ``gx, gy`` the
+    coordinates of the guide polyline's points (``x[guide], y[guide]``, or with periodic
+    ghost points added at both ends, see :mod:`shockfriction.contact.slideline`).
 
     Outputs per slave node j: ``seg[j]`` (segment index, -1 if inactive), ``coef[j]`` in [0, 1],
     contact normal ``(nx, ny)`` (out of the guide) and tangent ``(tx, ty)`` (along the guide order),
     signed gap ``gap[j]`` (> 0 open, < 0 penetration) and ``active[j]``.
     """
-    ng = guide.size
+    ng = gx.size
     for j in range(slave.size):
         xs = x[slave[j]]
         ys = y[slave[j]]
@@ -53,10 +57,10 @@ def pair_slave_nodes(x, y, slave, guide, normal_sign, max_gap, max_penetration,
         bty = 0.0
         bg = 0.0
         for k in range(ng - 1):
-            x0 = x[guide[k]]
-            y0 = y[guide[k]]
-            dx = x[guide[k + 1]] - x0
-            dy = y[guide[k + 1]] - y0
+            x0 = gx[k]
+            y0 = gy[k]
+            dx = gx[k + 1] - x0
+            dy = gy[k + 1] - y0
             l2 = dx * dx + dy * dy
             if l2 <= 0.0:
                 continue
@@ -82,12 +86,12 @@ def pair_slave_nodes(x, y, slave, guide, normal_sign, max_gap, max_penetration,
                 bg = g
         # convex corners: slave node beyond the end of segment k-1 and before the start of segment k
         for k in range(1, ng - 1):
-            xc = x[guide[k]]
-            yc = y[guide[k]]
-            ax = xc - x[guide[k - 1]]
-            ay = yc - y[guide[k - 1]]
-            bx = x[guide[k + 1]] - xc
-            by = y[guide[k + 1]] - yc
+            xc = gx[k]
+            yc = gy[k]
+            ax = xc - gx[k - 1]
+            ay = yc - gy[k - 1]
+            bx = gx[k + 1] - xc
+            by = gy[k + 1] - yc
             rx = xs - xc
             ry = ys - yc
             if rx * ax + ry * ay <= 0.0 or rx * bx + ry * by >= 0.0:
