@@ -88,6 +88,11 @@ class SlideLine:
         Nodal surfaces per radian about the axis (0: x is the radius, 1: y is).
     max_gap, max_penetration:
         Search window of the pairing (m); default half the smallest initial guide segment.
+    node_representative:
+        For node groups that the hydrocode moves as one node (ties, periodic images): the
+        member that receives the impulses of every node of its group (the others are synced
+        by the hydrocode afterwards).  ``mass`` must then be the group mass.  Default:
+        every node represents itself.
     """
 
     def __init__(self, name: str, slave, guide, slave_cells, guide_cells, normal_sign: float, *,
@@ -95,7 +100,8 @@ class SlideLine:
                  heat_share_slave: float | None = None, axisymmetric: bool = False, radius_axis: int = 1,
                  periodic: bool = False, max_gap: float | None = None, max_penetration: float | None = None,
                  max_sweeps: int = 50, rel_tol: float = 1e-10, record_interval: float = math.inf,
-                 x0: np.ndarray | None = None, y0: np.ndarray | None = None):
+                 x0: np.ndarray | None = None, y0: np.ndarray | None = None,
+                 node_representative: np.ndarray | None = None):
         self.name = name
         slave = np.asarray(slave, dtype=np.int64)
         guide = np.asarray(guide, dtype=np.int64)
@@ -105,6 +111,11 @@ class SlideLine:
         self.slave = slave[:-1].copy() if periodic else slave.copy()
         self.guide = guide.copy()
         self.guide_cells = np.asarray(guide_cells, dtype=np.int64)
+        rep = node_representative
+        self.slave_imp = self.slave.copy() if rep is None else np.asarray(rep, np.int64)[self.slave]
+        self.guide_imp = self.guide.copy() if rep is None else np.asarray(rep, np.int64)[self.guide]
+        if periodic:    # the guide's last node is the periodic image of its first
+            self.guide_imp[-1] = self.guide_imp[0]
         ns = self.slave.size
         before = np.full(ns, -1, np.int64)
         after = np.full(ns, -1, np.int64)
@@ -208,7 +219,7 @@ class SlideLine:
         pair_slave_nodes(xs, ys, slave_idx, gx, gy, self.normal_sign, self.max_gap, self.max_penetration,
                          self.seg, self.coef, self.nx, self.ny, self.tx, self.ty, self.gap, self.active)
         self.area[:] = self.nodal_areas(x, y)
-        self.sweeps_normal = normal_step(vx, vy, mass, self.slave, self.guide, self.seg, self.coef, self.nx,
+        self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.guide_imp, self.seg, self.coef, self.nx,
                                          self.ny, self.gap, self.active, dt, self.bilateral, self.max_sweeps,
                                          self.rel_tol, self.lam_n, self.work_n)
         if cell_yield is not None:
@@ -223,7 +234,7 @@ class SlideLine:
             y_slave = np.full(self.slave.size, np.inf)
             y_guide = y_slave
         self.sweeps_tangential = tangential_step(
-            vx, vy, mass, self.slave, self.guide, self.seg, self.coef, self.tx, self.ty, self.active, dt,
+            vx, vy, mass, self.slave_imp, self.guide_imp, self.seg, self.coef, self.tx, self.ty, self.active, dt,
             self.area, self.law, self.law_params, y_slave, y_guide, self.lam_n, self.max_sweeps, self.rel_tol,
             self.lam_t, self.slip_free, self.slip, self.work_t)
         if self.heat_share_slave is not None and cell_energy is not None:
