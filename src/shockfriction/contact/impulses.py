@@ -85,6 +85,8 @@ def normal_step(vx, vy, mass, slave, guide, seg, coef, nx, ny, gap, active, dt, 
                 max_sweeps, rel_tol, lam_n, work_n):
     """Contact step: normal impulses ``lam_n`` (N s, >= 0 compressive unless bilateral).
 
+    ``dt`` is the step over which the positions advance: the target relative normal
+    velocity is -gap/dt.
     Corrects ``vx, vy`` in place; ``work_n[j]`` receives the kinetic energy removed by the
     normal impulse of node j (the inelastic-impact loss of an explicit contact step).
     Returns the number of sweeps done.

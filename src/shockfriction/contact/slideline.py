@@ -206,21 +206,24 @@ class SlideLine:
         return np.where(tot > 0.0, before / np.where(tot > 0.0, tot, 1.0), 0.5)
 
     # ------------------------------------------------------------------ one cycle
-    def apply(self, x, y, vx, vy, mass, dt: float, t: float, *, cell_yield=None, cell_mass=None,
-              cell_energy=None) -> float:
+    def apply(self, x, y, vx, vy, mass, dt: float, t: float, *, dt_position: float | None = None,
+              cell_yield=None, cell_mass=None, cell_energy=None) -> float:
         """Correct the free velocities ``vx, vy`` in place; return the friction work of this step (J).
 
-        ``x, y`` are the positions at t^n, ``mass`` the nodal masses; ``cell_yield`` (Pa) is
+        ``dt`` is the velocity step (impulse = force dt) and ``dt_position`` the step that takes
+        the positions from t^n to t^{n+1} (default ``dt``; the gap closes over it).
+        ``x, y`` are the positions at t^n, ``mass`` the nodal (group) masses; ``cell_yield`` (Pa) is
         needed by the Tresca laws; ``cell_mass`` and ``cell_energy`` (specific internal energy,
         J/kg, updated in place) by the heat deposit.
         """
+        dt_pos = dt if dt_position is None else float(dt_position)
         gx, gy = self._guide_polyline(x, y)
         xs, ys, slave_idx = self._wrapped_slave_coordinates(x, y, gx, gy)
         pair_slave_nodes(xs, ys, slave_idx, gx, gy, self.normal_sign, self.max_gap, self.max_penetration,
                          self.seg, self.coef, self.nx, self.ny, self.tx, self.ty, self.gap, self.active)
         self.area[:] = self.nodal_areas(x, y)
         self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.guide_imp, self.seg, self.coef, self.nx,
-                                         self.ny, self.gap, self.active, dt, self.bilateral, self.max_sweeps,
+                                         self.ny, self.gap, self.active, dt_pos, self.bilateral, self.max_sweeps,
                                          self.rel_tol, self.lam_n, self.work_n)
         if cell_yield is not None:
             w = self.heat_weights(x, y)
@@ -245,10 +248,10 @@ class SlideLine:
         self.total_friction_work += step_work
         self.total_contact_loss += float(self.work_n.sum())
         self.cum_work += self.work_t
-        self.cum_slip += self.slip * dt
+        self.cum_slip += self.slip * dt_pos
         self._win_lam_n += self.lam_n
         self._win_lam_t += self.lam_t
-        self._win_slip += self.slip * dt
+        self._win_slip += self.slip * dt_pos
         self._win_time += dt
         return step_work
 
