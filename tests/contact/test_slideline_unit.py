@@ -21,8 +21,9 @@ def _rows(shift=0.0, n_guide=4, n_slave=6, width=1.0):
     return x, y, guide, slave
 
 
+@pytest.mark.parametrize("share", ["segment", "point"])
 @pytest.mark.parametrize("periodic,shift", [(False, 0.0), (True, 0.0), (True, 2.37), (True, -1.61)])
-def test_nonmatching_rows_persistency_momentum_and_friction(periodic, shift):
+def test_nonmatching_rows_persistency_momentum_and_friction(periodic, shift, share):
     x, y, guide, slave = _rows(shift)
     ng, ns = guide.size, slave.size
     rng = np.random.default_rng(3)
@@ -34,7 +35,7 @@ def test_nonmatching_rows_persistency_momentum_and_friction(periodic, shift):
     vy = np.concatenate((rng.uniform(0, 1, ng), rng.uniform(-5, -4, ns)))
     sign = guide_normal_sign(x, y, guide, 0.5, -1.0)
     line = SlideLine("l", slave, guide, np.arange(ns - 1), np.arange(ng - 1), sign, law=COULOMB,
-                     law_params=law_parameters(mu0=0.2), periodic=periodic, x0=x, y0=y, record_interval=1e-6)
+                     law_params=law_parameters(mu0=0.2), periodic=periodic, x0=x, y0=y, record_interval=1e-6, guide_share=share)
     active_nodes = np.unique(np.concatenate((line.slave_imp, line.guide_imp)))
     p0 = np.array([np.sum(mass[active_nodes] * vx[active_nodes]), np.sum(mass[active_nodes] * vy[active_nodes])])
     if periodic:
@@ -47,11 +48,15 @@ def test_nonmatching_rows_persistency_momentum_and_friction(periodic, shift):
             vx[b], vy[b] = vx[a], vy[a]
     assert line.active.all()
     # persistency: every slave node moves with its projection in the normal direction
+    np.testing.assert_allclose(line.gw.sum(axis=1), 1.0, rtol=1e-14)
     for j in range(line.slave.size):
-        k = line.seg[j]
-        c = line.coef[j]
-        vG = (1 - c) * vy[line.guide[k]] + c * vy[line.guide[k + 1]]
+        vG = np.sum(line.gw[j] * vy[line.gnode[j]])
         assert vy[line.slave[j]] - vG == pytest.approx(0.0, abs=1e-9)
+    if share == "point":
+        for j in range(line.slave.size):
+            k, c = line.seg[j], line.coef[j]
+            vG = (1 - c) * vy[line.guide[k]] + c * vy[line.guide[k + 1]]
+            assert vy[line.slave[j]] - vG == pytest.approx(0.0, abs=1e-9)
     p1 = np.array([np.sum(mass[active_nodes] * vx[active_nodes]), np.sum(mass[active_nodes] * vy[active_nodes])])
     np.testing.assert_allclose(p1, p0, rtol=0, atol=1e-12 * np.abs(p0).max())
     # Coulomb: every slipping node carries |tau| = mu sigma_n
@@ -64,6 +69,34 @@ def test_nonmatching_rows_persistency_momentum_and_friction(periodic, shift):
     assert rec["sigma_n"].shape == (1, line.slave.size)
     np.testing.assert_allclose(rec["sigma_n"][0] * line.area * dt, line.lam_n, rtol=1e-12)
     assert line.area.sum() == pytest.approx(1.0, rel=1e-12)     # the slave side's length (unit depth)
+
+
+def test_segment_weights_give_consistent_guide_forces():
+    """Uniform pressure on non-matching rows: the guide nodes get traction x tributary length."""
+    for n_guide, n_slave, periodic in ((5, 8, False), (4, 7, True), (7, 4, False), (3, 11, True)):
+        x, y, guide, slave = _rows(0.0, n_guide, n_slave)
+        if periodic:
+            x[slave] += 0.123        # slide the slave row: the wrap must keep the weights consistent
+        sign = guide_normal_sign(x, y, guide, 0.5, -1.0)
+        line = SlideLine("l", slave, guide, np.arange(n_slave - 1), np.arange(n_guide - 1), sign,
+                         periodic=periodic, x0=x, y0=y)
+        gx, gy = x[guide], y[guide]
+        xs, ys, _ = line._wrapped_slave_coordinates(x, y, gx, gy)
+        from shockfriction.contact.pairing import pair_slave_nodes
+        pair_slave_nodes(xs, ys, np.arange(xs.size), gx, gy, sign, line.max_gap, line.max_penetration, line.seg,
+                         line.coef, line.nx, line.ny, line.tx, line.ty, line.gap, line.active)
+        line._projection_weights(x, y, xs, ys, gx, gy)
+        area = line.nodal_areas(x, y)
+        force = np.zeros(x.size)
+        for j in range(line.slave.size):
+            np.add.at(force, line.gnode[j], line.gw[j] * area[j])
+        h = 1.0 / (n_guide - 1)
+        expect = np.full(n_guide, h)
+        if periodic:
+            expect[0], expect[-1] = h, 0.0        # the seam node carries both halves
+        else:
+            expect[0] = expect[-1] = 0.5 * h
+        np.testing.assert_allclose(force[guide], expect, rtol=1e-12, atol=1e-15)
 
 
 def test_heat_is_deposited_with_the_share():

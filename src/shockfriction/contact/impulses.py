@@ -18,9 +18,9 @@ and the relative velocity w = (v_g - v_G).d by P (1/m_g + 1/m_G).  The sticking
 
 exact for every coef (the thesis's m_G = (1 - coef) m_0 + coef m_1 with a velocity
 share leaves a residual slip when 0 < coef < 1; both agree at coef = 0 or 1 and
-for equal guide masses the impulse shares are the same).  Such an impulse does the
-work P (w_before + w_after)/2 on the kinetic energy, which is how friction work is
-counted.
+for equal guide masses the impulse shares are the same).  The work of the impulses
+over the step is -P (w^{n-1/2} + w^{n+1/2})/2 (:func:`impulse_work`), which is how
+friction work is counted (zero for a sticking pair).
 
 Normal step (unilateral by default): the target relative normal velocity is
 w_n = -g/dt (g the gap at t^n), so an open gap that the free motion would overrun
@@ -52,49 +52,54 @@ from shockfriction.friction.laws import traction_limit
 
 
 @njit(cache=True)
-def _pair_geometry(j, slave, guide, seg, coef, mass):
-    i_g = slave[j]
-    i0 = guide[seg[j]]
-    i1 = guide[seg[j] + 1]
-    c = coef[j]
-    w0 = 1.0 - c
-    inv_mg = 1.0 / mass[i_g]
-    inv_mG = w0 * w0 / mass[i0] + c * c / mass[i1]
-    return i_g, i0, i1, w0, c, inv_mg + inv_mG
+def _inverse_pair_mass(j, i_g, gnode, gw, mass):
+    """1/m_g + 1/m_G for pair j."""
+    inv = 1.0 / mass[i_g]
+    for k in range(gnode.shape[1]):
+        w = gw[j, k]
+        if w != 0.0:
+            inv += w * w / mass[gnode[j, k]]
+    return inv
 
 
 @njit(cache=True)
-def _relative_velocity(vx, vy, i_g, i0, i1, w0, w1, dx, dy):
-    return ((vx[i_g] - w0 * vx[i0] - w1 * vx[i1]) * dx
-            + (vy[i_g] - w0 * vy[i0] - w1 * vy[i1]) * dy)
+def _relative_velocity(vx, vy, j, i_g, gnode, gw, dx, dy):
+    """(v_g - v_G).d with v_G = sum_i w_i v_i."""
+    ux = vx[i_g]
+    uy = vy[i_g]
+    for k in range(gnode.shape[1]):
+        w = gw[j, k]
+        if w != 0.0:
+            ux -= w * vx[gnode[j, k]]
+            uy -= w * vy[gnode[j, k]]
+    return ux * dx + uy * dy
 
 
 @njit(cache=True)
-def _apply(vx, vy, mass, i_g, i0, i1, w0, w1, dx, dy, p):
-    """Impulse +p d on the slave node, -p d on its projection shared (w0, w1) by the guide nodes."""
+def _apply(vx, vy, mass, j, i_g, gnode, gw, dx, dy, p):
+    """Impulse +p d on the slave node, -p d on its projection shared w_i p by the guide nodes."""
     vx[i_g] += p * dx / mass[i_g]
     vy[i_g] += p * dy / mass[i_g]
-    vx[i0] -= w0 * p * dx / mass[i0]
-    vy[i0] -= w0 * p * dy / mass[i0]
-    vx[i1] -= w1 * p * dx / mass[i1]
-    vy[i1] -= w1 * p * dy / mass[i1]
+    for k in range(gnode.shape[1]):
+        w = gw[j, k]
+        if w != 0.0:
+            i = gnode[j, k]
+            vx[i] -= w * p * dx / mass[i]
+            vy[i] -= w * p * dy / mass[i]
 
 
 @njit(cache=True)
-def normal_step(vx, vy, mass, slave, guide, seg, coef, nx, ny, gap, active, dt, bilateral,
-                max_sweeps, rel_tol, lam_n, work_n):
+def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilateral,
+                max_sweeps, rel_tol, lam_n):
     """Contact step: normal impulses ``lam_n`` (N s, >= 0 compressive unless bilateral).
 
     ``dt`` is the step over which the positions advance: the target relative normal
-    velocity is -gap/dt.
-    Corrects ``vx, vy`` in place; ``work_n[j]`` receives the kinetic energy removed by the
-    normal impulse of node j (the inelastic-impact loss of an explicit contact step).
-    Returns the number of sweeps done.
+    velocity is -gap/dt.  ``gnode[j, :]``, ``gw[j, :]`` are the guide nodes and weights of
+    pair j (weight 0 pads).  Corrects ``vx, vy`` in place.  Returns the number of sweeps done.
     """
     ns = slave.size
     for j in range(ns):
         lam_n[j] = 0.0
-        work_n[j] = 0.0
     scale = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
@@ -103,8 +108,9 @@ def normal_step(vx, vy, mass, slave, guide, seg, coef, nx, ny, gap, active, dt, 
         for j in range(ns):
             if not active[j]:
                 continue
-            i_g, i0, i1, w0, w1, inv_pair = _pair_geometry(j, slave, guide, seg, coef, mass)
-            w = _relative_velocity(vx, vy, i_g, i0, i1, w0, w1, nx[j], ny[j])
+            i_g = slave[j]
+            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            w = _relative_velocity(vx, vy, j, i_g, gnode, gw, nx[j], ny[j])
             target = -gap[j] / dt
             new = lam_n[j] + (target - w) / inv_pair
             if not bilateral and new < 0.0:
@@ -113,9 +119,7 @@ def normal_step(vx, vy, mass, slave, guide, seg, coef, nx, ny, gap, active, dt, 
             if dp == 0.0:
                 continue
             lam_n[j] = new
-            _apply(vx, vy, mass, i_g, i0, i1, w0, w1, nx[j], ny[j], dp)
-            w_after = w + dp * inv_pair
-            work_n[j] -= 0.5 * dp * (w + w_after)
+            _apply(vx, vy, mass, j, i_g, gnode, gw, nx[j], ny[j], dp)
             dv = abs(dp * inv_pair)
             if dv > change:
                 change = dv
@@ -127,28 +131,26 @@ def normal_step(vx, vy, mass, slave, guide, seg, coef, nx, ny, gap, active, dt, 
 
 
 @njit(cache=True)
-def tangential_step(vx, vy, mass, slave, guide, seg, coef, tx, ty, active, dt, area,
+def tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, dt, area,
                     law, law_params, y_slave, y_guide, lam_n, max_sweeps, rel_tol,
-                    lam_t, slip_free, slip, work_t):
+                    lam_t, slip_free, slip):
     """Friction step: tangential impulses ``lam_t`` (N s, on the slave along t).
 
     ``slip_free[j]`` is the free slip s* = (v_g - v_G).t after the normal step (the
-    law's velocity, eq. 3.79) and ``slip[j]`` the corrected slip; ``work_t[j]`` the
-    friction work of this step (J; >= 0).  ``y_slave[j]``, ``y_guide[j]`` are the yield
-    stresses of the two sides at node j (Tresca laws only).  Returns the sweeps done.
+    law's velocity, eq. 3.79) and ``slip[j]`` the corrected slip.  ``y_slave[j]``,
+    ``y_guide[j]`` are the yield stresses of the two sides at node j (Tresca laws only);
+    ``dt`` is the velocity step (force = impulse/dt).  Returns the sweeps done.
     """
     ns = slave.size
     cap = lam_n.copy()
     for j in range(ns):
         lam_t[j] = 0.0
-        work_t[j] = 0.0
         slip_free[j] = 0.0
         slip[j] = 0.0
         cap[j] = 0.0
         if not active[j]:
             continue
-        i_g, i0, i1, w0, w1, inv_pair = _pair_geometry(j, slave, guide, seg, coef, mass)
-        s = _relative_velocity(vx, vy, i_g, i0, i1, w0, w1, tx[j], ty[j])
+        s = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j])
         slip_free[j] = s
         if lam_n[j] == 0.0 or area[j] <= 0.0:
             continue
@@ -162,8 +164,9 @@ def tangential_step(vx, vy, mass, slave, guide, seg, coef, tx, ty, active, dt, a
         for j in range(ns):
             if cap[j] <= 0.0:
                 continue
-            i_g, i0, i1, w0, w1, inv_pair = _pair_geometry(j, slave, guide, seg, coef, mass)
-            s = _relative_velocity(vx, vy, i_g, i0, i1, w0, w1, tx[j], ty[j])
+            i_g = slave[j]
+            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            s = _relative_velocity(vx, vy, j, i_g, gnode, gw, tx[j], ty[j])
             new = lam_t[j] - s / inv_pair
             if new > cap[j]:
                 new = cap[j]
@@ -173,9 +176,7 @@ def tangential_step(vx, vy, mass, slave, guide, seg, coef, tx, ty, active, dt, a
             if dp == 0.0:
                 continue
             lam_t[j] = new
-            _apply(vx, vy, mass, i_g, i0, i1, w0, w1, tx[j], ty[j], dp)
-            s_after = s + dp * inv_pair
-            work_t[j] -= 0.5 * dp * (s + s_after)
+            _apply(vx, vy, mass, j, i_g, gnode, gw, tx[j], ty[j], dp)
             dv = abs(dp * inv_pair)
             if dv > change:
                 change = dv
@@ -185,9 +186,45 @@ def tangential_step(vx, vy, mass, slave, guide, seg, coef, tx, ty, active, dt, a
             break
     for j in range(ns):
         if active[j]:
-            i_g, i0, i1, w0, w1, inv_pair = _pair_geometry(j, slave, guide, seg, coef, mass)
-            slip[j] = _relative_velocity(vx, vy, i_g, i0, i1, w0, w1, tx[j], ty[j])
+            slip[j] = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j])
     return sweeps
+
+
+@njit(cache=True)
+def impulse_work(vx, vy, vx_old, vy_old, slave, gnode, gw, dx, dy, active, lam, work):
+    """Work of the pair impulses over the step: work[j] = -lam[j] (w_old + w_new)/2 (J, >= 0 when dissipated).
+
+    w = (v_g - v_G).d is the relative velocity along d (n or t) of node j, at t^{n-1/2}
+    (``vx_old, vy_old``) and t^{n+1/2} (``vx, vy``, after all corrections).  Summed over the
+    pairs and the two directions this is exactly minus the change of the leapfrog kinetic
+    energy sum m dv.(v^{n-1/2} + v^{n+1/2})/2 caused by the corrections, so a sticking pair
+    (no slip before and after) does no work, whatever the free slip was.
+    """
+    for j in range(slave.size):
+        work[j] = 0.0
+        if not active[j] or lam[j] == 0.0:
+            continue
+        w_new = _relative_velocity(vx, vy, j, slave[j], gnode, gw, dx[j], dy[j])
+        w_old = _relative_velocity(vx_old, vy_old, j, slave[j], gnode, gw, dx[j], dy[j])
+        work[j] = -0.5 * lam[j] * (w_old + w_new)
+
+
+@njit(cache=True)
+def point_weights(guide, seg, coef, active, gnode, gw):
+    """The thesis's point share: guide nodes (guide[seg], guide[seg+1]) with weights (1 - coef, coef)."""
+    for j in range(seg.size):
+        for k in range(gnode.shape[1]):
+            gnode[j, k] = guide[0]
+            gw[j, k] = 0.0
+        if not active[j]:
+            continue
+        gnode[j, 0] = guide[seg[j]]
+        gnode[j, 1] = guide[seg[j] + 1]
+        gw[j, 0] = 1.0 - coef[j]
+        gw[j, 1] = coef[j]
+        if gnode[j, 1] == gnode[j, 0]:     # one node group (periodic seam)
+            gw[j, 0] = 1.0
+            gw[j, 1] = 0.0
 
 
 @njit(cache=True)

@@ -178,3 +178,129 @@ def slave_nodal_areas(x: np.ndarray, y: np.ndarray, slave: np.ndarray, axisymmet
     area[:-1] += near_a
     area[1:] += near_b
     return area
+
+
+@njit(cache=True)
+def closest_guide_coordinate(px, py, gx, gy):
+    """Guide coordinate xi = k + u (segment k, u in [0, 1]) of the polyline point closest to (px, py)."""
+    best = math.inf
+    xi = 0.0
+    for k in range(gx.size - 1):
+        dx = gx[k + 1] - gx[k]
+        dy = gy[k + 1] - gy[k]
+        l2 = dx * dx + dy * dy
+        if l2 <= 0.0:
+            continue
+        u = ((px - gx[k]) * dx + (py - gy[k]) * dy) / l2
+        u = min(max(u, 0.0), 1.0)
+        ex = gx[k] + u * dx - px
+        ey = gy[k] + u * dy - py
+        d2 = ex * ex + ey * ey
+        if d2 < best:
+            best = d2
+            xi = k + u
+    return xi
+
+
+@njit(cache=True)
+def tributary_intervals(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active,
+                        gx, gy, periodic, xi_a, xi_b):
+    """Guide-coordinate interval [xi_a, xi_b] covered by each slave node's tributary segment halves.
+
+    The ends are the projections of the midpoints to the previous and next slave nodes
+    (offsets ``prev_d*``, ``next_d*`` from the node), or the node itself at a free end of the
+    slave side.  Periodic lines: midpoints are shifted into the guide's period and the interval
+    is unwrapped around the node's own coordinate seg + coef (it may then leave [0, Ng - 1]).
+    """
+    period = gx.size - 1.0
+    dxp = gx[-1] - gx[0]
+    dyp = gy[-1] - gy[0]
+    d2 = dxp * dxp + dyp * dyp
+    for j in range(xs.size):
+        if not active[j]:
+            xi_a[j] = 0.0
+            xi_b[j] = 0.0
+            continue
+        xi0 = seg[j] + coef[j]
+        ends = np.empty(2)
+        for side in range(2):
+            has = has_prev[j] if side == 0 else has_next[j]
+            if not has:
+                ends[side] = xi0
+                continue
+            mx = xs[j] + 0.5 * (prev_dx[j] if side == 0 else next_dx[j])
+            my = ys[j] + 0.5 * (prev_dy[j] if side == 0 else next_dy[j])
+            if periodic:
+                s = ((mx - gx[0]) * dxp + (my - gy[0]) * dyp) / d2
+                shift = math.floor(s)
+                mx -= shift * dxp
+                my -= shift * dyp
+            xi = closest_guide_coordinate(mx, my, gx, gy)
+            if periodic:
+                while xi - xi0 > 0.5 * period:
+                    xi -= period
+                while xi0 - xi > 0.5 * period:
+                    xi += period
+            ends[side] = xi
+        xi_a[j] = min(ends[0], ends[1])
+        xi_b[j] = max(ends[0], ends[1])
+
+
+@njit(cache=True)
+def tributary_weights(xi_a, xi_b, seg, coef, active, gx, gy, guide_nodes, periodic, gnode, gw):
+    """Segment-averaged guide weights: w_i = (1/L) integral of the hat function N_i over [xi_a, xi_b].
+
+    L is the guide length of the interval.  For a uniform traction the guide nodes then receive
+    exactly the consistent nodal forces (traction times their tributary length), so two blocks
+    with non-matching meshes transmit a uniform pressure (patch test).  ``guide_nodes`` are the
+    (representative) node indices of the guide points; a repeated node (periodic seam) is merged.
+    A node whose interval has zero length falls back on the point share (1 - coef, coef).
+    """
+    ng = gx.size
+    nseg = ng - 1
+    kmax = gnode.shape[1]
+    for j in range(xi_a.size):
+        for k in range(kmax):
+            gnode[j, k] = guide_nodes[0]
+            gw[j, k] = 0.0
+        if not active[j]:
+            continue
+        a = xi_a[j]
+        b = xi_b[j]
+        used = 0
+        total = 0.0
+        if b > a:
+            kc = int(math.floor(a))
+            while kc < b:
+                k = kc % nseg if periodic else min(max(kc, 0), nseg - 1)
+                lo = max(a - kc, 0.0)
+                hi = min(b - kc, 1.0)
+                if hi > lo:
+                    length = math.sqrt((gx[k + 1] - gx[k]) ** 2 + (gy[k + 1] - gy[k]) ** 2)
+                    c1 = length * 0.5 * (hi * hi - lo * lo)
+                    c0 = length * (hi - lo) - c1
+                    total += c0 + c1
+                    for node, c in ((guide_nodes[k], c0), (guide_nodes[k + 1], c1)):
+                        found = -1
+                        for q in range(used):
+                            if gnode[j, q] == node:
+                                found = q
+                        if found < 0:
+                            found = used
+                            used += 1
+                            gnode[j, found] = node
+                        gw[j, found] += c
+                kc += 1
+        if total > 0.0:
+            for q in range(used):
+                gw[j, q] /= total
+        else:
+            for q in range(kmax):
+                gw[j, q] = 0.0
+            gnode[j, 0] = guide_nodes[seg[j]]
+            gnode[j, 1] = guide_nodes[seg[j] + 1]
+            gw[j, 0] = 1.0 - coef[j]
+            gw[j, 1] = coef[j]
+            if gnode[j, 1] == gnode[j, 0]:
+                gw[j, 0] = 1.0
+                gw[j, 1] = 0.0

@@ -24,8 +24,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shockfriction.contact.impulses import deposit_friction_heat, normal_step, tangential_step
-from shockfriction.contact.pairing import pair_slave_nodes, slave_nodal_areas, slave_tributary_lengths
+from shockfriction.contact.impulses import (deposit_friction_heat, impulse_work, normal_step, point_weights,
+                                            tangential_step)
+from shockfriction.contact.pairing import (pair_slave_nodes, slave_nodal_areas, slave_tributary_lengths,
+                                           tributary_intervals, tributary_weights)
 from shockfriction.friction.laws import FRICTIONLESS
 
 
@@ -88,6 +90,11 @@ class SlideLine:
         Nodal surfaces per radian about the axis (0: x is the radius, 1: y is).
     max_gap, max_penetration:
         Search window of the pairing (m); default half the smallest initial guide segment.
+    guide_share:
+        ``"segment"`` (default): the projection's guide nodes and weights are the averages of
+        the guide's hat functions over the slave node's tributary interval (consistent nodal
+        forces on the guide: passes the contact patch test with non-matching meshes);
+        ``"point"``: the thesis's (1 - coef, coef) on the paired segment (eqs. 3.84-3.85).
     node_representative:
         For node groups that the hydrocode moves as one node (ties, periodic images): the
         member that receives the impulses of every node of its group (the others are synced
@@ -100,6 +107,7 @@ class SlideLine:
                  heat_share_slave: float | None = None, axisymmetric: bool = False, radius_axis: int = 1,
                  periodic: bool = False, max_gap: float | None = None, max_penetration: float | None = None,
                  max_sweeps: int = 50, rel_tol: float = 1e-10, record_interval: float = math.inf,
+                 guide_share: str = "segment",
                  x0: np.ndarray | None = None, y0: np.ndarray | None = None,
                  node_representative: np.ndarray | None = None):
         self.name = name
@@ -132,6 +140,9 @@ class SlideLine:
         self.heat_share_slave = heat_share_slave
         self.axisymmetric = bool(axisymmetric)
         self.radius_axis = int(radius_axis)
+        if guide_share not in ("segment", "point"):
+            raise ValueError(f"guide_share must be 'segment' or 'point', not {guide_share!r}")
+        self.guide_share = guide_share
         self.max_sweeps = int(max_sweeps)
         self.rel_tol = float(rel_tol)
         self.record_interval = float(record_interval)
@@ -158,6 +169,10 @@ class SlideLine:
         self.slip_free = np.zeros(ns)
         self.slip = np.zeros(ns)
         self.area = np.zeros(ns)
+        self.xi_a = np.zeros(ns)
+        self.xi_b = np.zeros(ns)
+        self.gnode = np.zeros((ns, 2), np.int64)
+        self.gw = np.zeros((ns, 2))
         # running sums
         self.cum_slip = np.zeros(ns)
         self.cum_work = np.zeros(ns)
@@ -177,15 +192,53 @@ class SlideLine:
         return x[self.guide].copy(), y[self.guide].copy()
 
     def _wrapped_slave_coordinates(self, x, y, gx, gy):
-        """Slave coordinates shifted by whole periods into the guide's span (periodic lines)."""
-        if not self.periodic:
-            return x, y, self.slave
-        dx, dy = gx[-1] - gx[0], gy[-1] - gy[0]
-        d2 = dx * dx + dy * dy
-        xs, ys = x[self.slave], y[self.slave]
-        s = ((xs - gx[0]) * dx + (ys - gy[0]) * dy) / d2
-        k = np.floor(s)
-        return xs - k * dx, ys - k * dy, np.arange(self.slave.size, dtype=np.int64)
+        """Slave node coordinates (shifted by whole periods into the guide's span on periodic lines)."""
+        xs, ys = x[self.slave].copy(), y[self.slave].copy()
+        if self.periodic:
+            dx, dy = gx[-1] - gx[0], gy[-1] - gy[0]
+            k = np.floor(((xs - gx[0]) * dx + (ys - gy[0]) * dy) / (dx * dx + dy * dy))
+            xs -= k * dx
+            ys -= k * dy
+        return xs, ys, np.arange(self.slave.size, dtype=np.int64)
+
+    def _neighbour_offsets(self, x, y):
+        """Offsets from each slave node to its previous and next slave node along the side."""
+        side = self.slave_side
+        dx = np.diff(x[side])
+        dy = np.diff(y[side])
+        ns = self.slave.size
+        next_dx, next_dy = np.zeros(ns), np.zeros(ns)
+        prev_dx, prev_dy = np.zeros(ns), np.zeros(ns)
+        has_next = np.zeros(ns, np.bool_)
+        has_prev = np.zeros(ns, np.bool_)
+        m = min(ns, dx.size)
+        next_dx[:m], next_dy[:m] = dx[:m], dy[:m]
+        has_next[:m] = True
+        prev_dx[1:], prev_dy[1:] = -dx[:ns - 1], -dy[:ns - 1]
+        has_prev[1:] = True
+        if self.periodic:
+            prev_dx[0], prev_dy[0] = -dx[-1], -dy[-1]
+            has_prev[0] = True
+        return prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next
+
+    def _projection_weights(self, x, y, xs, ys, gx, gy):
+        """Fill ``gnode, gw`` (guide nodes and weights of each pair's projection)."""
+        ns = self.slave.size
+        if self.guide_share == "point":
+            if self.gnode.shape[1] != 2:
+                self.gnode = np.zeros((ns, 2), np.int64)
+                self.gw = np.zeros((ns, 2))
+            point_weights(self.guide_imp, self.seg, self.coef, self.active, self.gnode, self.gw)
+            return
+        tributary_intervals(xs, ys, *self._neighbour_offsets(x, y), self.seg, self.coef, self.active, gx, gy,
+                            self.periodic, self.xi_a, self.xi_b)
+        span = np.where(self.active, np.ceil(self.xi_b) - np.floor(self.xi_a), 0.0)
+        k = max(2, int(span.max()) + 2) if ns else 2
+        if self.gnode.shape[1] != k:
+            self.gnode = np.zeros((ns, k), np.int64)
+            self.gw = np.zeros((ns, k))
+        tributary_weights(self.xi_a, self.xi_b, self.seg, self.coef, self.active, gx, gy, self.guide_imp,
+                          self.periodic, self.gnode, self.gw)
 
     def nodal_areas(self, x, y) -> np.ndarray:
         area = slave_nodal_areas(x, y, self.slave_side, self.axisymmetric, self.radius_axis)
@@ -207,24 +260,30 @@ class SlideLine:
 
     # ------------------------------------------------------------------ one cycle
     def apply(self, x, y, vx, vy, mass, dt: float, t: float, *, dt_position: float | None = None,
-              cell_yield=None, cell_mass=None, cell_energy=None) -> float:
+              vx_old=None, vy_old=None, cell_yield=None, cell_mass=None, cell_energy=None) -> float:
         """Correct the free velocities ``vx, vy`` in place; return the friction work of this step (J).
 
         ``dt`` is the velocity step (impulse = force dt) and ``dt_position`` the step that takes
         the positions from t^n to t^{n+1} (default ``dt``; the gap closes over it).
-        ``x, y`` are the positions at t^n, ``mass`` the nodal (group) masses; ``cell_yield`` (Pa) is
+        ``x, y`` are the positions at t^n, ``mass`` the nodal (group) masses; ``vx_old, vy_old``
+        the velocities at t^{n-1/2}, for the friction work -P_t (s^{n-1/2} + s^{n+1/2})/2 (without
+        them the free velocities stand in, and the work is the kinetic energy the correction
+        removes from the free state); ``cell_yield`` (Pa) is
         needed by the Tresca laws; ``cell_mass`` and ``cell_energy`` (specific internal energy,
         J/kg, updated in place) by the heat deposit.
         """
         dt_pos = dt if dt_position is None else float(dt_position)
+        if vx_old is None or vy_old is None:
+            vx_old, vy_old = vx.copy(), vy.copy()
         gx, gy = self._guide_polyline(x, y)
         xs, ys, slave_idx = self._wrapped_slave_coordinates(x, y, gx, gy)
         pair_slave_nodes(xs, ys, slave_idx, gx, gy, self.normal_sign, self.max_gap, self.max_penetration,
                          self.seg, self.coef, self.nx, self.ny, self.tx, self.ty, self.gap, self.active)
         self.area[:] = self.nodal_areas(x, y)
-        self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.guide_imp, self.seg, self.coef, self.nx,
+        self._projection_weights(x, y, xs, ys, gx, gy)
+        self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.nx,
                                          self.ny, self.gap, self.active, dt_pos, self.bilateral, self.max_sweeps,
-                                         self.rel_tol, self.lam_n, self.work_n)
+                                         self.rel_tol, self.lam_n)
         if cell_yield is not None:
             w = self.heat_weights(x, y)
             yb = np.where(self.slave_cell_before >= 0, cell_yield[self.slave_cell_before], 0.0)
@@ -237,9 +296,13 @@ class SlideLine:
             y_slave = np.full(self.slave.size, np.inf)
             y_guide = y_slave
         self.sweeps_tangential = tangential_step(
-            vx, vy, mass, self.slave_imp, self.guide_imp, self.seg, self.coef, self.tx, self.ty, self.active, dt,
+            vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.tx, self.ty, self.active, dt,
             self.area, self.law, self.law_params, y_slave, y_guide, self.lam_n, self.max_sweeps, self.rel_tol,
-            self.lam_t, self.slip_free, self.slip, self.work_t)
+            self.lam_t, self.slip_free, self.slip)
+        impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.nx, self.ny,
+                     self.active, self.lam_n, self.work_n)
+        impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.tx, self.ty,
+                     self.active, self.lam_t, self.work_t)
         if self.heat_share_slave is not None and cell_energy is not None:
             deposit_friction_heat(self.work_t, self.active, self.seg, float(self.heat_share_slave),
                                   self.slave_cell_before, self.slave_cell_after, self.heat_weights(x, y),

@@ -9,10 +9,11 @@ into arrays.  Slide lines (contact/friction between bodies) are the
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal, Optional, Union
+from typing import Annotated, Literal, Optional, Union
 
 from pydantic import BeforeValidator, Field, model_validator
 
+from shockfriction.contact.deck import SlideLineDeck
 from shockfriction.deck.base import DeckModel
 from shockfriction.units import (
     Dimensionless, Length, Pressure, PositiveTime, Temperature, UnitError, Velocity, to_si,
@@ -220,10 +221,9 @@ class RunDeck(DeckModel):
     bodies: list[Body] = Field(min_length=1)
     ties: list[Tie] = Field(default_factory=list)
     probes: list[Probe] = Field(default_factory=list)
-    # Slide lines between bodies: each entry is validated and built by the contact
-    # module (shockfriction.contact), which turns it into an interface object
-    # registered in the cycle (see hydro.setup.build_slide_lines).
-    slide_lines: list[dict[str, Any]] = Field(default_factory=list)
+    # Slide lines between bodies (shockfriction.contact.deck.SlideLineDeck), built by the
+    # contact module into interface objects registered in the cycle (hydro.setup.build_slide_lines).
+    slide_lines: list[SlideLineDeck] = Field(default_factory=list)
 
     @model_validator(mode="after")
     def _references(self):
@@ -240,6 +240,13 @@ class RunDeck(DeckModel):
         for k, p in enumerate(self.probes):
             if p.body not in names:
                 raise ValueError(f"probes[{k}].body = {p.body!r}: no such body ({', '.join(names)})")
+        for k, sl in enumerate(self.slide_lines):
+            for role in ("guide", "slave"):
+                ref = getattr(sl, role)
+                if ref.body not in names:
+                    raise ValueError(f"slide_lines[{k}].{role}.body = {ref.body!r}: no such body ({', '.join(names)})")
+        if len({sl.name for sl in self.slide_lines}) != len(self.slide_lines):
+            raise ValueError("slide line names must be unique")
         pnames = [p.name for p in self.probes]
         if len(set(pnames)) != len(pnames):
             raise ValueError("probe names must be unique")

@@ -144,6 +144,9 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
         if fields is not None:
             fields.close(sim)
         if out is not None:
+            from shockfriction.contact.build import write_interface_outputs
+
+            write_interface_outputs(sim, out)  # slide-line records: interface.h5 + maps
             summary = summarize(sim)
             summary["completed"] = sim.state.t >= sim.t_end * (1 - 1e-12)
             summary["total_wall_time_s"] = time.perf_counter() - started
