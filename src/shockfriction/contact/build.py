@@ -163,8 +163,8 @@ def build_interfaces(entries, simulation) -> list[SlideLineInterface]:
         line = SlideLine(sl.name, slave, guide, slave_cells, guide_cells, sign, law=LAW_IDS[fr.law],
                          law_params=params, bilateral=sl.contact == "bilateral", heat_share_slave=share,
                          axisymmetric=bool(state.axisymmetric), radius_axis=0, periodic=periodic,
-                         max_sweeps=sl.max_sweeps, record_interval=interval, x0=state.x, y0=state.y,
-                         node_representative=rep)
+                         max_sweeps=sl.max_sweeps, record_interval=interval, guide_share=sl.guide_share,
+                         x0=state.x, y0=state.y, node_representative=rep)
         out.append(SlideLineInterface(line, share is not None, simulation))
     return out
 

@@ -8,8 +8,12 @@ Example::
     slave = { body = "flyer", side = "bottom" }    # sliding surface
     contact = "unilateral"                          # or "bilateral" (thesis's permanent contact)
     heat = "none"                                   # or "effusivity" (beta_T = e1/(e1+e2), eq. 2.101)
-    record_interval = "10 ns"
-    friction = { law = "coulomb", mu0 = 0.1 }
+    record_interval = "10 ns"                       # records: window averages (default: output.field_interval)
+    guide_share = "segment"                         # or "point" (the thesis's (1 - coef, coef))
+    max_sweeps = 50                                 # Gauss-Seidel sweeps per step (1: thesis single pass)
+    friction = { law = "coulomb", mu0 = 0.1 }      # frictionless, coulomb, modified_coulomb
+                                                    # (mu0, mu_inf, gamma "s/m"), tresca (mu_T),
+                                                    # coulomb_tresca (mu0, mu_inf, gamma, mu_T)
 """
 
 from __future__ import annotations
@@ -70,6 +74,7 @@ class SlideLineDeck(DeckModel):
     friction: FrictionDeck = FrictionDeck()
     heat: Literal["none", "effusivity"] = "none"
     record_interval: Optional[PositiveTime] = None
+    guide_share: Literal["segment", "point"] = "segment"
     max_sweeps: int = Field(50, ge=1, le=10000, description="Gauss-Seidel sweeps per step (1 = thesis single pass)")
 
     @model_validator(mode="after")
