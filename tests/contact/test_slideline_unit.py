@@ -71,32 +71,35 @@ def test_nonmatching_rows_persistency_momentum_and_friction(periodic, shift, sha
     assert line.area.sum() == pytest.approx(1.0, rel=1e-12)     # the slave side's length (unit depth)
 
 
-def test_segment_weights_give_consistent_guide_forces():
-    """Uniform pressure on non-matching rows: the guide nodes get traction x tributary length."""
-    for n_guide, n_slave, periodic in ((5, 8, False), (4, 7, True), (7, 4, False), (3, 11, True)):
-        x, y, guide, slave = _rows(0.0, n_guide, n_slave)
-        if periodic:
-            x[slave] += 0.123        # slide the slave row: the wrap must keep the weights consistent
-        sign = guide_normal_sign(x, y, guide, 0.5, -1.0)
-        line = SlideLine("l", slave, guide, np.arange(n_slave - 1), np.arange(n_guide - 1), sign,
-                         periodic=periodic, x0=x, y0=y)
-        gx, gy = x[guide], y[guide]
-        xs, ys, _ = line._wrapped_slave_coordinates(x, y, gx, gy)
-        from shockfriction.contact.pairing import pair_slave_nodes
-        pair_slave_nodes(xs, ys, np.arange(xs.size), gx, gy, sign, line.max_gap, line.max_penetration, line.seg,
-                         line.coef, line.nx, line.ny, line.tx, line.ty, line.gap, line.active)
-        line._projection_weights(x, y, xs, ys, gx, gy)
-        area = line.nodal_areas(x, y)
-        force = np.zeros(x.size)
-        for j in range(line.slave.size):
-            np.add.at(force, line.gnode[j], line.gw[j] * area[j])
-        h = 1.0 / (n_guide - 1)
-        expect = np.full(n_guide, h)
-        if periodic:
-            expect[0], expect[-1] = h, 0.0        # the seam node carries both halves
-        else:
-            expect[0] = expect[-1] = 0.5 * h
-        np.testing.assert_allclose(force[guide], expect, rtol=1e-12, atol=1e-15)
+@pytest.mark.parametrize("n_guide,n_slave,periodic,axisymmetric", [
+    (5, 8, False, False), (4, 7, True, False), (7, 4, False, False), (3, 11, True, False), (4, 3, True, False),
+    (5, 8, False, True), (7, 4, False, True), (6, 9, False, True)])
+def test_hat_weights_give_consistent_guide_forces(n_guide, n_slave, periodic, axisymmetric):
+    """Uniform pressure on non-matching rows: guide node i receives sigma int N_i r dl exactly."""
+    x, y, guide, slave = _rows(0.0, n_guide, n_slave)
+    if axisymmetric:          # x is the radius: move the rows off the axis (and one test on it)
+        x += 0.0 if n_guide == 6 else 0.3
+    if periodic:
+        x[slave] += 0.123     # slide the slave row: the wrap must keep the weights consistent
+    sign = guide_normal_sign(x, y, guide, 0.5, -1.0)
+    line = SlideLine("l", slave, guide, np.arange(n_slave - 1), np.arange(n_guide - 1), sign,
+                     periodic=periodic, axisymmetric=axisymmetric, radius_axis=0, x0=x, y0=y)
+    gx, gy = x[guide], y[guide]
+    xs, ys, _ = line._wrapped_slave_coordinates(x, y, gx, gy)
+    from shockfriction.contact.pairing import pair_slave_nodes, slave_nodal_areas
+    pair_slave_nodes(xs, ys, np.arange(xs.size), gx, gy, sign, line.max_gap, line.max_penetration, line.seg,
+                     line.coef, line.nx, line.ny, line.tx, line.ty, line.gap, line.active)
+    line._projection_weights(x, y, xs, ys, gx, gy)
+    np.testing.assert_allclose(line.gw.sum(axis=1), 1.0, rtol=1e-13)
+    area = line.nodal_areas(x, y)
+    force = np.zeros(x.size)
+    for j in range(line.slave.size):
+        np.add.at(force, line.gnode[j], line.gw[j] * area[j])
+    expect = slave_nodal_areas(x, y, guide, axisymmetric, radius_axis=0)
+    if periodic:              # the seam node carries both halves
+        expect[0] += expect[-1]
+        expect[-1] = 0.0
+    np.testing.assert_allclose(force[guide], expect, rtol=1e-12, atol=1e-15)
 
 
 def test_heat_is_deposited_with_the_share():

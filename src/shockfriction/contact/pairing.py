@@ -159,10 +159,10 @@ def slave_nodal_areas(x: np.ndarray, y: np.ndarray, slave: np.ndarray, axisymmet
                       radius_axis: int = 1) -> np.ndarray:
     """Nodal contact surface S_g (thesis's undefined S(X_g), section 5.4 of the digest).
 
-    Planar: the tributary length (per unit depth).  Axisymmetric: each half segment is
-    rotated about the axis, per radian: integral of r dl over the half segment, so that
-    the areas match nodal masses given per radian.  ``radius_axis`` is 0 if x is the
-    radius, 1 if y is.
+    S_g = integral of N_g r dl over the two slave segments next to the node (N_g its hat
+    function): the consistent load of a uniform traction.  Planar (r = 1, per unit depth): half
+    of the two segment lengths.  Axisymmetric (per radian, like the nodal masses): L (2 r_g +
+    r_other)/6 per segment.  ``radius_axis`` is 0 if x is the radius, 1 if y is.
     """
     if not axisymmetric:
         before, after = slave_tributary_lengths(x, y, slave)
@@ -170,10 +170,10 @@ def slave_nodal_areas(x: np.ndarray, y: np.ndarray, slave: np.ndarray, axisymmet
     r = (x if radius_axis == 0 else y)[slave]
     xs, ys = x[slave], y[slave]
     seg_len = np.hypot(np.diff(xs), np.diff(ys))
-    # half segment next to node a: length L/2, mean radius (3 r_a + r_b)/4
+    # integral over the segment of the hat of node a (b) times r: L (2 r_a + r_b)/6
     ra, rb = r[:-1], r[1:]
-    near_a = 0.5 * seg_len * (3.0 * ra + rb) / 4.0
-    near_b = 0.5 * seg_len * (ra + 3.0 * rb) / 4.0
+    near_a = seg_len * (2.0 * ra + rb) / 6.0
+    near_b = seg_len * (ra + 2.0 * rb) / 6.0
     area = np.zeros(slave.size)
     area[:-1] += near_a
     area[1:] += near_b
@@ -203,93 +203,107 @@ def closest_guide_coordinate(px, py, gx, gy):
 
 
 @njit(cache=True)
-def tributary_intervals(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active,
-                        gx, gy, periodic, xi_a, xi_b):
-    """Guide-coordinate interval [xi_a, xi_b] covered by each slave node's tributary segment halves.
+def slave_hat_coordinates(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active,
+                          gx, gy, periodic, xi_prev, xi_node, xi_next):
+    """Guide coordinates (xi = segment + u) of each slave node and of its two slave neighbours.
 
-    The ends are the projections of the midpoints to the previous and next slave nodes
-    (offsets ``prev_d*``, ``next_d*`` from the node), or the node itself at a free end of the
-    slave side.  Periodic lines: midpoints are shifted into the guide's period and the interval
-    is unwrapped around the node's own coordinate seg + coef (it may then leave [0, Ng - 1]).
+    They map the slave node's hat function N_j (1 at the node, 0 at the neighbours) onto the
+    guide.  The neighbours are at offsets ``prev_d*``, ``next_d*`` from the node; a missing one
+    (free end of the slave side) takes the node's own coordinate.  Periodic lines: the node lies
+    in the guide's span; a neighbour is shifted by whole periods into it and its coordinate
+    then shifted back by as many periods of the guide coordinate (xi may leave [0, Ng - 1]).
     """
     period = gx.size - 1.0
     dxp = gx[-1] - gx[0]
     dyp = gy[-1] - gy[0]
     d2 = dxp * dxp + dyp * dyp
     for j in range(xs.size):
-        if not active[j]:
-            xi_a[j] = 0.0
-            xi_b[j] = 0.0
-            continue
         xi0 = seg[j] + coef[j]
-        ends = np.empty(2)
+        xi_node[j] = xi0
+        xi_prev[j] = xi0
+        xi_next[j] = xi0
+        if not active[j]:
+            continue
         for side in range(2):
             has = has_prev[j] if side == 0 else has_next[j]
             if not has:
-                ends[side] = xi0
                 continue
-            mx = xs[j] + 0.5 * (prev_dx[j] if side == 0 else next_dx[j])
-            my = ys[j] + 0.5 * (prev_dy[j] if side == 0 else next_dy[j])
-            if periodic:
-                s = ((mx - gx[0]) * dxp + (my - gy[0]) * dyp) / d2
-                shift = math.floor(s)
+            mx = xs[j] + (prev_dx[j] if side == 0 else next_dx[j])
+            my = ys[j] + (prev_dy[j] if side == 0 else next_dy[j])
+            shift = 0.0
+            if periodic:    # the node lies in the guide's span: count the periods to its neighbour
+                shift = math.floor(((mx - gx[0]) * dxp + (my - gy[0]) * dyp) / d2)
                 mx -= shift * dxp
                 my -= shift * dyp
-            xi = closest_guide_coordinate(mx, my, gx, gy)
-            if periodic:
-                while xi - xi0 > 0.5 * period:
-                    xi -= period
-                while xi0 - xi > 0.5 * period:
-                    xi += period
-            ends[side] = xi
-        xi_a[j] = min(ends[0], ends[1])
-        xi_b[j] = max(ends[0], ends[1])
+            xi = closest_guide_coordinate(mx, my, gx, gy) + shift * period
+            if side == 0:
+                xi_prev[j] = xi
+            else:
+                xi_next[j] = xi
 
 
 @njit(cache=True)
-def tributary_weights(xi_a, xi_b, seg, coef, active, gx, gy, guide_nodes, periodic, gnode, gw):
-    """Segment-averaged guide weights: w_i = (1/L) integral of the hat function N_i over [xi_a, xi_b].
+def _add_weight(gnode, gw, j, used, node, c):
+    for q in range(used):
+        if gnode[j, q] == node:
+            gw[j, q] += c
+            return used
+    gnode[j, used] = node
+    gw[j, used] = c
+    return used + 1
 
-    L is the guide length of the interval.  For a uniform traction the guide nodes then receive
-    exactly the consistent nodal forces (traction times their tributary length), so two blocks
-    with non-matching meshes transmit a uniform pressure (patch test).  ``guide_nodes`` are the
-    (representative) node indices of the guide points; a repeated node (periodic seam) is merged.
-    A node whose interval has zero length falls back on the point share (1 - coef, coef).
+
+@njit(cache=True)
+def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_nodes, periodic, gnode, gw):
+    """Mortar-type guide weights: w_ij = int N_i N_j r dl / int N_j r dl over the guide.
+
+    N_i are the guide's hat functions, N_j the slave node's hat mapped onto the guide by
+    :func:`slave_hat_coordinates`, r the radius ``gr`` of the guide points (ones in plane
+    strain), dl the guide's arc length.  Each piece between breakpoints is a cubic in the guide
+    coordinate, integrated exactly by Simpson's rule.  With slave nodal forces sigma int N_j r dl
+    (the consistent load of a uniform traction sigma), the guide nodes then receive exactly
+    sigma int N_i r dl: a uniform pressure crosses non-matching meshes unchanged (patch test),
+    in plane strain and in axisymmetry.  ``guide_nodes`` are the (representative) node indices of
+    the guide points; repeated nodes (periodic seam) are merged.  A node whose hat maps to a
+    zero-length interval falls back on the point share (1 - coef, coef).
     """
-    ng = gx.size
-    nseg = ng - 1
+    nseg = gx.size - 1
     kmax = gnode.shape[1]
-    for j in range(xi_a.size):
-        for k in range(kmax):
-            gnode[j, k] = guide_nodes[0]
-            gw[j, k] = 0.0
+    for j in range(xi_node.size):
+        for q in range(kmax):
+            gnode[j, q] = guide_nodes[0]
+            gw[j, q] = 0.0
         if not active[j]:
             continue
-        a = xi_a[j]
-        b = xi_b[j]
         used = 0
         total = 0.0
-        if b > a:
+        x0 = xi_node[j]
+        for side in range(2):
+            far = xi_prev[j] if side == 0 else xi_next[j]
+            if far == x0:
+                continue
+            a = min(far, x0)
+            b = max(far, x0)
             kc = int(math.floor(a))
             while kc < b:
                 k = kc % nseg if periodic else min(max(kc, 0), nseg - 1)
-                lo = max(a - kc, 0.0)
-                hi = min(b - kc, 1.0)
+                lo = max(a, float(kc))
+                hi = min(b, kc + 1.0)
                 if hi > lo:
                     length = math.sqrt((gx[k + 1] - gx[k]) ** 2 + (gy[k + 1] - gy[k]) ** 2)
-                    c1 = length * 0.5 * (hi * hi - lo * lo)
-                    c0 = length * (hi - lo) - c1
+                    c0 = 0.0
+                    c1 = 0.0
+                    for q, wq in ((0, 1.0), (1, 4.0), (2, 1.0)):
+                        xi = lo + 0.5 * q * (hi - lo)
+                        u = xi - kc
+                        nj = (xi - far) / (x0 - far)
+                        r = gr[k] + u * (gr[k + 1] - gr[k])
+                        f = wq * nj * r * length * (hi - lo) / 6.0
+                        c0 += f * (1.0 - u)
+                        c1 += f * u
                     total += c0 + c1
-                    for node, c in ((guide_nodes[k], c0), (guide_nodes[k + 1], c1)):
-                        found = -1
-                        for q in range(used):
-                            if gnode[j, q] == node:
-                                found = q
-                        if found < 0:
-                            found = used
-                            used += 1
-                            gnode[j, found] = node
-                        gw[j, found] += c
+                    used = _add_weight(gnode, gw, j, used, guide_nodes[k], c0)
+                    used = _add_weight(gnode, gw, j, used, guide_nodes[k + 1], c1)
                 kc += 1
         if total > 0.0:
             for q in range(used):

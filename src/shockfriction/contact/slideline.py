@@ -26,8 +26,8 @@ import numpy as np
 
 from shockfriction.contact.impulses import (deposit_friction_heat, impulse_work, normal_step, point_weights,
                                             tangential_step)
-from shockfriction.contact.pairing import (pair_slave_nodes, slave_nodal_areas, slave_tributary_lengths,
-                                           tributary_intervals, tributary_weights)
+from shockfriction.contact.pairing import (hat_weights, pair_slave_nodes, slave_hat_coordinates, slave_nodal_areas,
+                                           slave_tributary_lengths)
 from shockfriction.friction.laws import FRICTIONLESS
 
 
@@ -91,9 +91,10 @@ class SlideLine:
     max_gap, max_penetration:
         Search window of the pairing (m); default half the smallest initial guide segment.
     guide_share:
-        ``"segment"`` (default): the projection's guide nodes and weights are the averages of
-        the guide's hat functions over the slave node's tributary interval (consistent nodal
-        forces on the guide: passes the contact patch test with non-matching meshes);
+        ``"segment"`` (default): the projection's guide nodes and weights are the mortar-type
+        integrals of the guide's hat functions against the slave node's hat function
+        (:func:`~shockfriction.contact.pairing.hat_weights`: consistent nodal forces on the
+        guide, the contact patch test passes with non-matching meshes);
         ``"point"``: the thesis's (1 - coef, coef) on the paired segment (eqs. 3.84-3.85).
     node_representative:
         For node groups that the hydrocode moves as one node (ties, periodic images): the
@@ -169,8 +170,9 @@ class SlideLine:
         self.slip_free = np.zeros(ns)
         self.slip = np.zeros(ns)
         self.area = np.zeros(ns)
-        self.xi_a = np.zeros(ns)
-        self.xi_b = np.zeros(ns)
+        self.xi_prev = np.zeros(ns)
+        self.xi_node = np.zeros(ns)
+        self.xi_next = np.zeros(ns)
         self.gnode = np.zeros((ns, 2), np.int64)
         self.gw = np.zeros((ns, 2))
         # running sums
@@ -230,15 +232,18 @@ class SlideLine:
                 self.gw = np.zeros((ns, 2))
             point_weights(self.guide_imp, self.seg, self.coef, self.active, self.gnode, self.gw)
             return
-        tributary_intervals(xs, ys, *self._neighbour_offsets(x, y), self.seg, self.coef, self.active, gx, gy,
-                            self.periodic, self.xi_a, self.xi_b)
-        span = np.where(self.active, np.ceil(self.xi_b) - np.floor(self.xi_a), 0.0)
+        slave_hat_coordinates(xs, ys, *self._neighbour_offsets(x, y), self.seg, self.coef, self.active, gx, gy,
+                              self.periodic, self.xi_prev, self.xi_node, self.xi_next)
+        lo = np.minimum(self.xi_prev, self.xi_next)
+        hi = np.maximum(self.xi_prev, self.xi_next)
+        span = np.where(self.active, np.ceil(hi) - np.floor(lo), 0.0)
         k = max(2, int(span.max()) + 2) if ns else 2
         if self.gnode.shape[1] != k:
             self.gnode = np.zeros((ns, k), np.int64)
             self.gw = np.zeros((ns, k))
-        tributary_weights(self.xi_a, self.xi_b, self.seg, self.coef, self.active, gx, gy, self.guide_imp,
-                          self.periodic, self.gnode, self.gw)
+        gr = (gx if self.radius_axis == 0 else gy) if self.axisymmetric else np.ones_like(gx)
+        hat_weights(self.xi_prev, self.xi_node, self.xi_next, self.seg, self.coef, self.active, gx, gy, gr,
+                    self.guide_imp, self.periodic, self.gnode, self.gw)
 
     def nodal_areas(self, x, y) -> np.ndarray:
         area = slave_nodal_areas(x, y, self.slave_side, self.axisymmetric, self.radius_axis)
