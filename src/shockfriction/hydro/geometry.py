@@ -92,3 +92,38 @@ def min_corner_jacobian(xs, ys):
         if j < jmin:
             jmin = j
     return jmin
+
+
+@njit(cache=True)
+def corner_weights(xs, ys, axi, out):
+    """out[i] = int N_i w dA (w = 1 or r): the row sums of the consistent mass matrix per density.
+
+    They sum to the cell volume; in plane strain the thesis's lumping V/4 is used instead
+    (eq. 3.12), in axisymmetry these r-weighted row sums (so that a 1D state stays 1D)."""
+    if not axi:
+        v = quad_area(xs[0], xs[1], xs[2], xs[3], ys[0], ys[1], ys[2], ys[3])
+        for i in range(4):
+            out[i] = 0.25 * v
+        return
+    for i in range(4):
+        out[i] = 0.0
+    for gi in range(2):
+        xi = -_G if gi == 0 else _G
+        for gj in range(2):
+            eta = -_G if gj == 0 else _G
+            x_xi = 0.0
+            x_eta = 0.0
+            y_xi = 0.0
+            y_eta = 0.0
+            r = 0.0
+            for i in range(4):
+                nxi = 0.25 * _XI[i] * (1.0 + eta * _ETA[i])
+                neta = 0.25 * _ETA[i] * (1.0 + xi * _XI[i])
+                x_xi += nxi * xs[i]
+                x_eta += neta * xs[i]
+                y_xi += nxi * ys[i]
+                y_eta += neta * ys[i]
+                r += 0.25 * (1.0 + xi * _XI[i]) * (1.0 + eta * _ETA[i]) * xs[i]
+            jac = x_xi * y_eta - x_eta * y_xi
+            for i in range(4):
+                out[i] += 0.25 * (1.0 + xi * _XI[i]) * (1.0 + eta * _ETA[i]) * r * jac

@@ -25,7 +25,7 @@ import numpy as np
 from numba import njit, prange
 
 from shockfriction.hydro.eos import eos_ab, sound_speed2, temperature
-from shockfriction.hydro.geometry import bvectors, min_corner_jacobian, quad_area
+from shockfriction.hydro.geometry import bvectors, corner_weights, min_corner_jacobian, quad_area
 from shockfriction.hydro.matprops import P_PMIN, P_STRENGTH, STRENGTH_NONE
 from shockfriction.hydro.plasticity import radial_return, rotate_deviator, shear_modulus_and_ratio, yield_stress
 
@@ -478,6 +478,22 @@ def cell_volumes(conn, x, y, axi, out):
             xs[k] = x[conn[c, k]]
             ys[k] = y[conn[c, k]]
         out[c] = bvectors(xs, ys, axi, bx, by, hh)
+
+
+@njit(cache=True)
+def nodal_masses(conn, x, y, rho, axi, out):
+    """Lumped nodal masses: sum over cells of rho int N_i w dA (V/4 per node in plane strain)."""
+    xs = np.empty(4)
+    ys = np.empty(4)
+    w = np.empty(4)
+    out[:] = 0.0
+    for c in range(conn.shape[0]):
+        for k in range(4):
+            xs[k] = x[conn[c, k]]
+            ys[k] = y[conn[c, k]]
+        corner_weights(xs, ys, axi, w)
+        for k in range(4):
+            out[conn[c, k]] += rho[c] * w[k]
 
 
 @njit(cache=True)

@@ -11,7 +11,7 @@ from shockfriction.deck.run import NODE_QUANTITIES, RunDeck
 from shockfriction.errors import DeckError
 from shockfriction.hydro import matprops as mp
 from shockfriction.hydro.eos import isentrope_table
-from shockfriction.hydro.kernels import cell_volumes, initial_cell_state
+from shockfriction.hydro.kernels import cell_volumes, initial_cell_state, nodal_masses
 from shockfriction.hydro.state import State
 from shockfriction.materials.library import SCG_ORDER, get_material
 from shockfriction.mesh.assembly import Mesh
@@ -210,7 +210,7 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     rho = props[mat, mp.P_RHO0].copy()
     cmass = rho * vol
     mass_own = np.zeros(mesh.n_nodes)
-    np.add.at(mass_own, mesh.conn.ravel(), np.repeat(cmass / 4.0, 4))
+    nodal_masses(mesh.conn, mesh.x, mesh.y, rho, axi, mass_own)
     e = np.zeros(mesh.n_cells)
     for k, body in enumerate(deck.bodies):
         if body.eos == "ideal-gas":
