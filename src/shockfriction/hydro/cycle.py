@@ -142,6 +142,8 @@ class Simulation:
         self._forces(dtv)
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
+        en = s.energy
+        before = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
         # 3 free velocities and boundary constraints
         self._vx_old[:] = s.vx
         self._vy_old[:] = s.vy
@@ -163,7 +165,11 @@ class Simulation:
             s.energy.boundary_work += K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own,
                                                           *self._cons, dtv)
         if s.cycle % self.probe_every == 0:
-            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own), ie)
+            # the exchanges of this step are centred at t^n: half of them count at t^n
+            after = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
+            mid = tuple(0.5 * (a + b) for a, b in zip(before, after))
+            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own),
+                         ie + 0.5 * (after[2] - before[2]), mid)
         # 5 positions
         K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
         # 6 cells
@@ -187,14 +193,17 @@ class Simulation:
         s.dt = dtn
 
     # ------------------------------------------------------------------ histories
-    def _record(self, ke: float, ie: float) -> None:
+    def _record(self, ke: float, ie: float, budget: tuple | None = None) -> None:
+        """One history row at t^n; ``budget`` = (boundary work, interface work, interface heat,
+        friction work) at t^n (default: the running totals)."""
         s = self.state
         f = s.geometry_factor
         en = s.energy
+        wbc, wint, qint, fw = budget if budget is not None else (
+            en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
         total = ke + ie
-        err = total - (en.initial + en.boundary_work + en.interface_work + en.interface_heat)
-        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * en.boundary_work, f * en.interface_work,
-                                 f * en.interface_heat, f * en.friction_work, f * err))
+        err = total - (en.initial + wbc + wint + qint)
+        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * err))
         if self.problem.probes:
             row = [s.t]
             for p in self.problem.probes:
