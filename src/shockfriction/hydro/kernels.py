@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit, prange
 
 from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_s, temperature
-from shockfriction.hydro.geometry import bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area
+from shockfriction.hydro.geometry import axi_volume, bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area
 from shockfriction.hydro.matprops import (
     EOS_IDEAL_GAS, STRENGTH_EPP, P_C0, P_CV, P_EOS, P_G0, P_G_CONST, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_PMIN, P_RHO0, P_S,
     P_SCG, P_STRENGTH, P_T0, P_Y0, STRENGTH_NONE,
@@ -281,7 +281,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         d2 = (xa3 - xa1) ** 2 + (ya3 - ya1) ** 2
         dmax = math.sqrt(d1 if d1 > d2 else d2)
         if axi:
-            v1 = bvec_axi(xa0, xa1, xa2, xa3, ya0, ya1, ya2, ya3)[12]
+            v1 = axi_volume(xa0, xa1, xa2, xa3, ya0, ya1, ya2, ya3)
         else:
             v1 = area1
         if not (jmin > 0.0 and v1 > 0.0):
