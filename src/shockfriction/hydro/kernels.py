@@ -491,15 +491,27 @@ def reduce_time_step(dtcell, errcell):
 
 
 @njit(cache=True)
-def initial_time_step(conn, x, y, cs, cfl):
-    """cfl * min over cells of (area / max diagonal) / c."""
+def initial_time_step(conn, x, y, vx, vy, cs, cfl, dvmax, axi):
+    """First step: cfl (area / max diagonal)/c, and <= dvmax/|div v^0| (the volume-change cap
+    with the initial velocity field)."""
     dtmin = 1e300
     for c in range(conn.shape[0]):
         n0, n1, n2, n3 = conn[c, 0], conn[c, 1], conn[c, 2], conn[c, 3]
-        area = quad_area(x[n0], x[n1], x[n2], x[n3], y[n0], y[n1], y[n2], y[n3])
-        d1 = (x[n2] - x[n0]) ** 2 + (y[n2] - y[n0]) ** 2
-        d2 = (x[n3] - x[n1]) ** 2 + (y[n3] - y[n1]) ** 2
+        x0, x1, x2, x3 = x[n0], x[n1], x[n2], x[n3]
+        y0, y1, y2, y3 = y[n0], y[n1], y[n2], y[n3]
+        area = quad_area(x0, x1, x2, x3, y0, y1, y2, y3)
+        d1 = (x2 - x0) ** 2 + (y2 - y0) ** 2
+        d2 = (x3 - x1) ** 2 + (y3 - y1) ** 2
         dt = cfl * area / math.sqrt(max(d1, d2)) / cs[c]
+        if axi:
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, vol = bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3)
+        else:
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3, vol = bvec_planar(x0, x1, x2, x3, y0, y1, y2, y3)
+            h0 = h1 = h2 = h3 = 0.0
+        div = ((bx0 + h0) * vx[n0] + (bx1 + h1) * vx[n1] + (bx2 + h2) * vx[n2] + (bx3 + h3) * vx[n3]
+               + by0 * vy[n0] + by1 * vy[n1] + by2 * vy[n2] + by3 * vy[n3]) / vol
+        if div != 0.0 and dvmax / abs(div) < dt:
+            dt = dvmax / abs(div)
         if dt < dtmin:
             dtmin = dt
     return dtmin
