@@ -156,6 +156,8 @@ class TimeSpec(DeckModel):
 class Viscosity(DeckModel):
     """Artificial viscosity (compression only) and hourglass control coefficients."""
 
+    kind: Literal["scalar", "edge"] = "scalar"
+
     quadratic: float = Field(default=2.0, ge=0.0)
     linear: float = Field(default=0.15, ge=0.0)
     hourglass: float = Field(default=0.05, ge=0.0)

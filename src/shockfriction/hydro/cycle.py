@@ -74,6 +74,7 @@ class Simulation:
         self.cq = deck.viscosity.quadratic
         self.cl = deck.viscosity.linear
         self.hg = deck.viscosity.hourglass
+        self.qedge = deck.viscosity.kind == "edge"
         threads = deck.threads if threads is None else threads
         self.threads = numba.config.NUMBA_NUM_THREADS if threads == 0 else min(threads, numba.config.NUMBA_NUM_THREADS)
         self.parallel = self.threads > 1
@@ -86,6 +87,7 @@ class Simulation:
         self._vx_free = np.empty(nn)
         self._vy_free = np.empty(nn)
         self._corner = np.zeros((nc, 8))
+        self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
@@ -136,12 +138,12 @@ class Simulation:
             f"body {name!r}, cell ({i}, {j}) [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
-    def _forces(self, dt: float) -> None:
-        """Nodal forces F^n into state.fx, fy (hourglass heat dt * power into e)."""
+    def _forces(self) -> None:
+        """Nodal forces F^n into state.fx, fy (viscous corner forces kept for their heat)."""
         s = self.state
         corner = K.corner_forces_parallel if self.parallel else K.corner_forces_serial
         corner(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
-               s.cell_mass, s.e, s.axisymmetric, self.hg, dt, self._corner)
+               s.axisymmetric, self.hg, self._corner, self._vcorner, self.qedge, self.cq, self.cl)
         if self.parallel:
             K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
         else:
@@ -155,7 +157,7 @@ class Simulation:
         s.dt_velocity = dtv
         ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
         # 1-2 forces
-        self._forces(dtv)
+        self._forces()
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
         en = s.energy
@@ -180,6 +182,10 @@ class Simulation:
                                                                         + dvy * (self._vy_old + s.vy))))
             s.energy.boundary_work += K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own,
                                                           *self._cons, dtv)
+        # heat of the hourglass / edge-viscosity forces over this velocity step
+        heat = K.viscous_heat_parallel if self.parallel else K.viscous_heat_serial
+        qv = heat(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv, s.cell_mass, s.e)
+        ie += 0.5 * qv
         if s.cycle % self.probe_every == 0:
             # the exchanges of this step are centred at t^n: half of them count at t^n
             after = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
@@ -193,7 +199,7 @@ class Simulation:
         update(s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-               self.dvmax, self._dtcell, self._errcell)
+               self.dvmax, self._dtcell, self._errcell, self.qedge)
         dtn, bad, code = K.reduce_time_step(self._dtcell, self._errcell)
         if bad >= 0:
             self._fail(bad, code)
@@ -255,7 +261,7 @@ class Simulation:
         s = self.state
         ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
         fx, fy = s.fx.copy(), s.fy.copy()
-        self._forces(0.0)
+        self._forces()
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
         self._vx_old[:] = s.vx
