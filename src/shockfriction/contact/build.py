@@ -160,11 +160,15 @@ def build_interfaces(entries, simulation) -> list[SlideLineInterface]:
         interval = sl.record_interval or field_dt
         if interval is None:
             interval = deck.time.end / 200.0
-        line = SlideLine(sl.name, slave, guide, slave_cells, guide_cells, sign, law=LAW_IDS[fr.law],
+        line = SlideLine(sl.name, slave, guide, slave_cells, guide_cells, sign, law=LAW_IDS.get(fr.law, 0),
                          law_params=params, bilateral=sl.contact == "bilateral", heat_share_slave=share,
                          axisymmetric=bool(state.axisymmetric), radius_axis=0, periodic=periodic,
                          max_sweeps=sl.max_sweeps, record_interval=interval, guide_share=sl.guide_share,
                          x0=state.x, y0=state.y, node_representative=rep)
+        if fr.subgrid_model is not None:  # sub-grid columns take over the friction step (shockfriction.coupled)
+            from shockfriction.coupled.friction import build_subgrid_friction
+
+            line.friction_model = build_subgrid_friction(sl, line, bodies, where)
         out.append(SlideLineInterface(line, share is not None, simulation))
     return out
 
@@ -188,4 +192,10 @@ def write_interface_outputs(simulation, out_dir) -> list:
                         "heat_share_slave": -1.0 if obj.line.heat_share_slave is None else obj.line.heat_share_slave,
                         "axisymmetric": int(obj.line.axisymmetric)} for obj in lines}
     h5 = write_interface(Path(out_dir) / "interface.h5", [obj.line for obj in lines], attrs)
-    return [h5] + plot_interface(read_interface(h5), out_dir)
+    written = [h5] + plot_interface(read_interface(h5), out_dir)
+    coupled = [obj.line for obj in lines if obj.line.friction_model is not None]
+    if coupled:  # sub-grid friction: columns.h5, extra interface datasets and maps (shockfriction.coupled)
+        from shockfriction.coupled.outputs import write_subgrid_outputs
+
+        written += write_subgrid_outputs(coupled, h5, out_dir, simulation.state.geometry_factor)
+    return written

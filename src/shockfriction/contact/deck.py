@@ -22,6 +22,7 @@ from typing import Literal, Optional
 
 from pydantic import Field, model_validator
 
+from shockfriction.coupled.deck import SubgridFrictionOptions
 from shockfriction.deck.base import DeckModel
 from shockfriction.units import Dimensionless, PositiveTime, Slowness
 
@@ -41,10 +42,11 @@ class SideRef(DeckModel):
     last: int = -1
 
 
-class FrictionDeck(DeckModel):
-    """Friction law and its parameters (``shockfriction.friction.laws``)."""
+class FrictionDeck(SubgridFrictionOptions, DeckModel):
+    """Friction law and its parameters (``shockfriction.friction.laws``; sub-grid laws: ``coupled.deck``)."""
 
-    law: Literal["frictionless", "coulomb", "modified_coulomb", "tresca", "coulomb_tresca"] = "frictionless"
+    law: Literal["frictionless", "coulomb", "modified_coulomb", "tresca", "coulomb_tresca",
+                 "subgrid-thermoelastic", "subgrid-thermoelastoplastic"] = "frictionless"
     mu0: Optional[Dimensionless] = Field(None, ge=0.0, description="static coefficient (eq. 2.87)")
     mu_inf: Optional[Dimensionless] = Field(None, ge=0.0, description="dynamic coefficient (eq. 2.90)")
     gamma: Slowness = Field(0.0, ge=0.0, description="inverse threshold slip velocity, e.g. '0.01 s/m'")

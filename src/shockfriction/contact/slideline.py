@@ -188,6 +188,8 @@ class SlideLine:
         self.record = InterfaceRecord(name, self.slave.copy())
         self.sweeps_normal = 0
         self.sweeps_tangential = 0
+        # optional friction model taking over the tangential step (sub-grid columns, shockfriction.coupled)
+        self.friction_model = None
 
     # ------------------------------------------------------------------ geometry
     def _guide_polyline(self, x, y):
@@ -289,7 +291,9 @@ class SlideLine:
         self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.nx,
                                          self.ny, self.gap, self.active, dt_pos, self.bilateral, self.max_sweeps,
                                          self.rel_tol, self.lam_n)
-        if cell_yield is not None:
+        if self.friction_model is not None:
+            self.sweeps_tangential = self.friction_model.tangential(self, vx, vy, vx_old, vy_old, mass, dt, t)
+        elif cell_yield is not None:
             w = self.heat_weights(x, y)
             yb = np.where(self.slave_cell_before >= 0, cell_yield[self.slave_cell_before], 0.0)
             ya = np.where(self.slave_cell_after >= 0, cell_yield[self.slave_cell_after], 0.0)
@@ -300,10 +304,11 @@ class SlideLine:
         else:
             y_slave = np.full(self.slave.size, np.inf)
             y_guide = y_slave
-        self.sweeps_tangential = tangential_step(
-            vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.tx, self.ty, self.active, dt,
-            self.area, self.law, self.law_params, y_slave, y_guide, self.lam_n, self.max_sweeps, self.rel_tol,
-            self.lam_t, self.slip_free, self.slip)
+        if self.friction_model is None:
+            self.sweeps_tangential = tangential_step(
+                vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.tx, self.ty, self.active, dt,
+                self.area, self.law, self.law_params, y_slave, y_guide, self.lam_n, self.max_sweeps, self.rel_tol,
+                self.lam_t, self.slip_free, self.slip)
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.nx, self.ny,
                      self.active, self.lam_n, self.work_n)
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.tx, self.ty,
@@ -339,6 +344,8 @@ class SlideLine:
         rec.cum_slip.append(self.cum_slip.copy())
         rec.work.append(self.cum_work.copy())
         rec.active.append(self.active.copy())
+        if self.friction_model is not None:
+            self.friction_model.on_record(t_end, self.total_friction_work)
         self._win_lam_n[:] = 0.0
         self._win_lam_t[:] = 0.0
         self._win_slip[:] = 0.0

@@ -1,0 +1,1 @@
+"""Multi-scale friction: the sub-grid columns coupled under every slide-line node (thesis Part III)."""

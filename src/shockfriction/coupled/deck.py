@@ -1,0 +1,65 @@
+"""Deck fields of a sub-grid friction law on a slide line (validation only, no physics).
+
+A slide line's ``friction`` table takes ``law = "subgrid-thermoelastic"`` (thesis ch. 7) or
+``law = "subgrid-thermoelastoplastic"`` (ch. 8) with::
+
+    friction = { law = "subgrid-thermoelastic",
+                 mu0 = 0.3,                 # Coulomb coefficient (cap mu0 F_N)
+                 f = 0.7,                   # the model's coefficient on the SCG strength
+                 thickness = "20 um",       # column thickness h (thesis h_epsilon)
+                 cells = 500,               # cells M of the column
+                 grading = 1.0,             # ratio of successive cells (>= 1, finer at the interface)
+                 body = "slave",            # the body the columns model: "slave" (default) or "guide"
+                 heat_share = 0.677,        # optional: share beta_T entering that body (default e1/(e1+e2))
+                 taylor_quinney = 0.9,      # beta_Q (thermoelastoplastic)
+                 profile_nodes = [0, 100],  # slave nodes whose T(z), eps_p(z) go to columns.h5
+                 profile_interval = "100 ns" }
+
+These keys are the :class:`SubgridFrictionOptions` mix-in of the slide line's ``FrictionDeck``;
+they are refused for the other laws.
+"""
+
+from __future__ import annotations
+
+from typing import Literal, Optional
+
+from pydantic import BaseModel, Field, model_validator
+
+from shockfriction.units import Dimensionless, PositiveLength, PositiveTime
+
+SUBGRID_LAWS = {"subgrid-thermoelastic": "thermoelastic", "subgrid-thermoelastoplastic": "thermoelastoplastic"}
+_OPTIONS = ("f", "thickness", "cells", "grading", "body", "heat_share", "taylor_quinney", "profile_nodes",
+            "profile_interval")
+
+
+class SubgridFrictionOptions(BaseModel):
+    """The keys of a ``subgrid-*`` friction law (mixed into the slide line's friction table)."""
+
+    f: Optional[Dimensionless] = Field(None, ge=0.0, description="coefficient on the SCG strength (eq. 7.12)")
+    thickness: PositiveLength = Field(20e-6, le=1e-2, description="column thickness h")
+    cells: int = Field(500, ge=2, le=100_000, description="cells M of each column")
+    grading: float = Field(1.0, ge=1.0, le=2.0, description="ratio of successive cell sizes")
+    body: Literal["slave", "guide"] = "slave"
+    heat_share: Optional[Dimensionless] = Field(None, ge=0.0, le=1.0, description="beta_T of the modelled body")
+    taylor_quinney: Dimensionless = Field(0.9, ge=0.0, le=1.0, description="beta_Q")
+    profile_nodes: Optional[list[int]] = Field(None, max_length=1000)
+    profile_interval: Optional[PositiveTime] = None
+
+    @model_validator(mode="after")
+    def _subgrid_keys(self):
+        law = getattr(self, "law", None)
+        if law in SUBGRID_LAWS:
+            missing = [k for k in ("mu0", "f") if getattr(self, k, None) is None]
+            if missing:
+                raise ValueError(f"friction law {law!r} needs {', '.join(missing)}")
+        else:
+            given = [k for k in _OPTIONS if k in self.model_fields_set]
+            if given:
+                raise ValueError(f"{', '.join(given)} only with a subgrid-thermoelastic or "
+                                 f"subgrid-thermoelastoplastic law (law is {law!r})")
+        return self
+
+    @property
+    def subgrid_model(self) -> Optional[str]:
+        """'thermoelastic' / 'thermoelastoplastic' for a sub-grid law, else None."""
+        return SUBGRID_LAWS.get(getattr(self, "law", None))

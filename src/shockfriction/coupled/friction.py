@@ -1,0 +1,225 @@
+"""Sub-grid friction on a slide line: one column under every slave node, force coupling (thesis Part III).
+
+Every hydro step, after the contact step of the slide line (normal impulses P_n known), the
+friction step of Table 6.1 runs as follows for the slave nodes j:
+
+1. column inputs (:func:`~shockfriction.coupled.kernels.column_inputs`): F_N = P_n/(S dt),
+   free slip [V*]^{n+1/2}, previous slip [V]^{n-1/2} (same pairing), m_g, and the guide mass
+   m_G under a uniform traction of the line (shared guide nodes counted);
+2. the columns (:class:`~shockfriction.friction.subgrid.interface.SubgridInterface`, thesis
+   Algorithms 1 and 2) solve the interface temperature and return the friction stress
+   tau = min(mu0 F_N, tau_stick, f Ymax/sqrt(3) G(F_N, Theta(0))/G0) with the hydro step dt
+   inside the friction step (force coupling, eq. 5.183 / 6.83);
+3. the slide line applies the impulses, |P_t| <= tau S dt, by the projected Gauss-Seidel
+   sweeps of its own tangential step (:func:`~shockfriction.coupled.kernels.capped_tangential_step`).
+
+Nodes out of contact (P_n = 0) or without free slip (|[V*]| <= 1e-6 m/s, round-off of the contact
+step) get tau = 0: their column receives no heat (it only keeps diffusing what it already holds).
+
+Energy bookkeeping (per unit depth in plane strain, per radian in axisymmetry, like the slide
+line's friction work): each step adds S_j^n times the per-area increments of node j,
+
+* ``heat_columns``: heat put into the columns, beta_T tau [v] dt + the (lagged) plastic heat;
+* ``heat_other``: the other body's share (1 - beta_T) tau [v] dt (counted, not deposited);
+* ``cold_work``: (1 - beta_Q) of the plastic work (stored in the layer's defects);
+* ``plastic_heat_pending``: beta_Q times the last step's plastic work, deposited next step;
+* ``friction_work_columns``: tau |[V]^n| dt, the columns' view of the friction work.
+
+The columns' balance friction_work_columns = heat_columns + heat_other + cold_work + pending holds
+to round-off; the hydrocode's friction work (impulse work, exact kinetic-energy loss) differs
+from the columns' only where the actual corrected slip differs from the columns' prediction
+(non-uniform stress along the line, nodes that stick in the Gauss-Seidel sweeps but not alone).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from shockfriction.coupled.kernels import capped_tangential_step, column_inputs
+from shockfriction.errors import DeckError, SimulationError
+from shockfriction.friction.subgrid.interface import SubgridInterface
+
+IDLE_SLIP = 1e-6  # m/s: a free slip below this is contact round-off, the node's column stays idle
+ENERGY_KEYS = ("friction_work_columns", "heat_columns", "heat_other", "cold_work", "plastic_heat_pending")
+
+
+class SubgridFriction:
+    """The friction model a :class:`~shockfriction.contact.slideline.SlideLine` delegates its tangential step to.
+
+    ``material`` is the modelled body's library material, ``other`` the opposite body's material or
+    directly the heat share beta_T.  ``profile_nodes`` (positions along the slave side) and
+    ``profile_interval`` select the T(z), eps_p(z) profiles kept for ``columns.h5`` (sampled at
+    the slide line's record times).  ``trace=True`` keeps every step's inputs and outputs (tests).
+    """
+
+    def __init__(self, name: str, n_nodes: int, model: str, material, other, *, mu0: float, f: float,
+                 thickness: float = 20e-6, cells: int = 500, grading: float = 1.0, taylor_quinney: float = 0.9,
+                 T0: float = 300.0, bilateral: bool = False, profile_nodes=None, profile_interval: float = 0.0,
+                 modelled_body: str = "slave", trace: bool = False):
+        self.name = name
+        self.model = model
+        self.modelled_body = modelled_body
+        self.columns = SubgridInterface(n_nodes, material, other, thickness=thickness, n_cells=cells,
+                                        grading=grading, model=model, mu0=mu0, f=f, taylor_quinney=taylor_quinney,
+                                        T0=T0)
+        self.bilateral = bool(bilateral)
+        n = n_nodes
+        for key in ("sigma_n", "v_free", "v_prev", "m_slave", "m_guide", "cap"):
+            setattr(self, key, np.zeros(n))
+        for key in ENERGY_KEYS:
+            setattr(self, key, 0.0)
+        self._win_local = np.zeros(n)
+        self._win_plastic = np.zeros(n)
+        self._win_macro = np.zeros(n)
+        self._win_time = 0.0
+        self.record = {k: [] for k in ("t", "theta_interface", "slip_local", "slip_plastic", "slip_macro")
+                       + ENERGY_KEYS + ("friction_work_hydro",)}
+        if profile_nodes is None:
+            profile_nodes = np.unique(np.linspace(0, n - 1, min(n, 5)).round().astype(int))
+        self.profile_nodes = np.asarray(profile_nodes, dtype=np.int64)
+        self.profile_interval = float(profile_interval)
+        self.profile_t: list[float] = []
+        self.profile_theta: list[np.ndarray] = []
+        self.profile_eps: list[np.ndarray] = []
+        self._next_profile = 0.0
+        self._profile(0.0)
+        self.trace = [] if trace else None
+        self.steps = 0
+
+    # ------------------------------------------------------------------ the friction step
+    def tangential(self, line, vx, vy, vx_old, vy_old, mass, dt: float, t: float) -> int:
+        """Friction step of ``line`` (after its contact step): correct ``vx, vy``; return the sweeps."""
+        sg = self.columns
+        column_inputs(vx, vy, vx_old, vy_old, mass, line.slave_imp, line.gnode, line.gw, line.tx, line.ty,
+                      line.active, line.lam_n, line.area, dt, self.bilateral, self._guide_load(mass.size),
+                      IDLE_SLIP, self.sigma_n, self.v_free,
+                      self.v_prev, self.m_slave, self.m_guide)
+        before = [sg.friction_work.copy(), sg.heat_interface.copy(), sg.heat_plastic.copy(), sg.plastic_work.copy()]
+        try:
+            tau, _ = sg.step(self.sigma_n, self.v_free, self.v_prev, self.m_slave, self.m_guide, line.area, dt,
+                             cycle=self.steps + 1, time=t)
+        except SimulationError as exc:
+            raise SimulationError(f"slide line {self.name!r}, sub-grid friction step {self.steps + 1}: {exc}") from None
+        np.multiply(tau, line.area * dt, out=self.cap)
+        sweeps = capped_tangential_step(vx, vy, mass, line.slave_imp, line.gnode, line.gw, line.tx, line.ty,
+                                        line.active, self.cap, line.max_sweeps, line.rel_tol, line.lam_t, line.slip)
+        line.slip_free[:] = self.v_free
+        S = line.area
+        d_work = sg.friction_work - before[0]
+        d_iface = sg.heat_interface - before[1]
+        d_plastic_heat = sg.heat_plastic - before[2]
+        d_plastic = sg.plastic_work - before[3]
+        generated = tau * sg.slip_local * dt
+        self.friction_work_columns += float(S @ d_work)
+        self.heat_columns += float(S @ (d_iface + d_plastic_heat))
+        self.heat_other += float(S @ ((1.0 - sg.beta_T) * generated))
+        self.cold_work += float(S @ ((1.0 - sg.beta_Q) * d_plastic))
+        self.plastic_heat_pending = float(S @ sg.plastic_heat_pending)
+        self._win_local += sg.slip_local * dt
+        self._win_plastic += sg.slip_plastic * dt
+        self._win_macro += sg.slip_macro * dt
+        self._win_time += dt
+        self.steps += 1
+        if self.trace is not None:
+            self.trace.append({"t": t, "dt": dt, "sigma_n": self.sigma_n.copy(), "v_free": self.v_free.copy(),
+                               "v_prev": self.v_prev.copy(), "slip_macro": sg.slip_macro.copy(),
+                               "slip_local": sg.slip_local.copy(), "tau": tau.copy(),
+                               "theta_interface": sg.theta_interface.copy(), "area": S.copy(),
+                               "lam_t": line.lam_t.copy(), "slip": line.slip.copy(), "active": line.active.copy()})
+        return sweeps
+
+    def _guide_load(self, n: int) -> np.ndarray:
+        if getattr(self, "_load", None) is None or self._load.size != n:
+            self._load = np.zeros(n)
+        return self._load
+
+    # ------------------------------------------------------------------ records
+    def on_record(self, t_end: float, friction_work_hydro: float) -> None:
+        """Close a record window at ``t_end`` (called by the slide line when it records)."""
+        w = self._win_time if self._win_time > 0.0 else 1.0
+        rec = self.record
+        rec["t"].append(t_end)
+        rec["theta_interface"].append(self.columns.theta_interface.copy())
+        rec["slip_local"].append(self._win_local / w)
+        rec["slip_plastic"].append(self._win_plastic / w)
+        rec["slip_macro"].append(self._win_macro / w)
+        for key in ENERGY_KEYS:
+            rec[key].append(getattr(self, key))
+        rec["friction_work_hydro"].append(float(friction_work_hydro))
+        self._win_local[:] = 0.0
+        self._win_plastic[:] = 0.0
+        self._win_macro[:] = 0.0
+        self._win_time = 0.0
+        if t_end >= self._next_profile * (1 - 1e-12):
+            self._profile(t_end)
+
+    def _profile(self, t: float) -> None:
+        self.profile_t.append(t)
+        self.profile_theta.append(self.columns.theta[self.profile_nodes].copy())
+        self.profile_eps.append(self.columns.eps_p[self.profile_nodes].copy())
+        if self.profile_interval > 0.0:
+            while self._next_profile <= t * (1 + 1e-12):
+                self._next_profile += self.profile_interval
+        else:
+            self._next_profile = t
+
+    def records(self) -> dict[str, np.ndarray]:
+        """Record arrays: ``t`` (n_times,), per-node (n_times, n_nodes), energies (n_times,)."""
+        n = self.columns.n_columns
+        out = {"t": np.array(self.record["t"], float)}
+        for key in ("theta_interface", "slip_local", "slip_plastic", "slip_macro"):
+            out[key] = np.array(self.record[key], float).reshape(-1, n)
+        for key in ENERGY_KEYS + ("friction_work_hydro",):
+            out[key] = np.array(self.record[key], float)
+        return out
+
+    def energy_balance(self) -> dict[str, float]:
+        """The totals now (J per unit depth or per radian)."""
+        return {key: float(getattr(self, key)) for key in ENERGY_KEYS}
+
+
+def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = False) -> SubgridFriction:
+    """The :class:`SubgridFriction` of a validated slide-line deck entry ``sl`` on ``line``.
+
+    ``bodies`` maps body names to their deck entries (material, initial temperature).
+    """
+    from shockfriction.materials.library import get_material
+
+    fr = sl.friction
+    if sl.heat != "none":
+        raise DeckError(f"{where}.heat = {sl.heat!r}: expected 'none' with friction law {fr.law!r} "
+                        "(the sub-grid columns take the frictional heat; the other body's share is counted)")
+    modelled = sl.slave.body if fr.body == "slave" else sl.guide.body
+    opposite = sl.guide.body if fr.body == "slave" else sl.slave.body
+    mat_name = bodies[modelled].material
+    if mat_name is None:
+        raise DeckError(f"{where}.friction.body = {fr.body!r}: expected the modelled body {modelled!r} to name a "
+                        "library material (its conductivity, heat capacity and SCG data feed the columns)")
+    material = get_material(mat_name)
+    if fr.heat_share is not None:
+        other = float(fr.heat_share)
+    else:
+        other_name = bodies[opposite].material
+        if other_name is None:
+            raise DeckError(f"{where}.friction.heat_share is missing: expected a value, since body {opposite!r} "
+                            "names no library material (its effusivity would give beta_T)")
+        other = get_material(other_name)
+    T0 = float(bodies[modelled].temperature)
+    if not T0 < material.melting_temperature:
+        raise DeckError(f"bodies.{modelled}.temperature = {T0}: expected below the melting temperature "
+                        f"{material.melting_temperature} K of {mat_name}")
+    n = line.slave.size
+    nodes = fr.profile_nodes
+    if nodes is not None:
+        bad = [k for k in nodes if not -n <= k < n]
+        if bad:
+            raise DeckError(f"{where}.friction.profile_nodes = {list(nodes)!r}: expected slave node positions in "
+                            f"[-{n}, {n - 1}] ({n} slave nodes)")
+        nodes = [k % n for k in nodes]
+    interval = fr.profile_interval if fr.profile_interval is not None else 0.0
+    return SubgridFriction(sl.name, n, fr.subgrid_model, material, other, mu0=float(fr.mu0), f=float(fr.f),
+                           thickness=fr.thickness, cells=fr.cells, grading=fr.grading,
+                           taylor_quinney=fr.taylor_quinney, T0=T0, bilateral=sl.contact == "bilateral",
+                           profile_nodes=nodes, profile_interval=interval, modelled_body=fr.body, trace=trace)

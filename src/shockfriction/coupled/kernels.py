@@ -1,0 +1,115 @@
+"""Per-node kernels of the coupled friction step (thesis Table 6.1, eqs. 6.82-6.84).
+
+They reuse the slide line's pair algebra (:mod:`shockfriction.contact.impulses`): an impulse
+P along t acts +P t on the slave node and -P t on its projection X_G, shared by the guide
+nodes with the weights w_k, so that the relative velocity changes by P (1/m_g + 1/m_G) with
+1/m_G = sum_k w_k^2/m_k.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from shockfriction.contact.impulses import _apply, _inverse_pair_mass, _relative_velocity
+
+
+@njit(cache=True)
+def column_inputs(vx, vy, vx_old, vy_old, mass, slave, gnode, gw, tx, ty, active, lam_n, area, dt, bilateral,
+                  guide_load, idle_slip, sigma_n, v_free, v_prev, m_slave, m_guide):
+    """What each node's column needs (arrays of the slave nodes, filled in place).
+
+    sigma_n = P_n/(S dt) (compression > 0; |.| with bilateral contact, 0 out of contact), the
+    free slip [V*]^{n+1/2} = (v*_g - v*_G).t after the contact step, the slip of the previous
+    step [V]^{n-1/2} = (v_g - v_G).t at t^{n-1/2} with the same pairing (so that the column's
+    time-centred slip is the one of the hydrocode's friction work), m_g and the guide mass m_G.
+
+    m_G is the mass the projection X_G shows under a uniform friction stress on the whole line:
+    guide node k then receives sum_i w_ik tau S_i dt from all the nodes in contact, so
+
+        1/m_G,j = sum_k w_jk (sum_i w_ik S_i / S_j) / m_k
+
+    (the pair mass sum_k w_jk^2/m_k of a single node ignores its neighbours' pull on the shared
+    guide nodes and would misjudge the slip, hence the heat, by the per-step velocity change).
+    ``guide_load`` is a scratch array of the size of ``mass``.  A free slip below ``idle_slip`` (m/s)
+    is round-off of the contact step (e.g. 1e-11 m/s in a normal impact): it is set to 0, so the
+    node needs no friction and its column stays idle.
+    """
+    ns = slave.size
+    for j in range(ns):
+        for k in range(gnode.shape[1]):
+            guide_load[gnode[j, k]] = 0.0
+    for j in range(ns):
+        if active[j] and lam_n[j] != 0.0 and area[j] > 0.0:
+            for k in range(gnode.shape[1]):
+                guide_load[gnode[j, k]] += gw[j, k] * area[j]
+    for j in range(ns):
+        i_g = slave[j]
+        m_slave[j] = mass[i_g]
+        if not active[j]:
+            sigma_n[j] = 0.0
+            v_free[j] = 0.0
+            v_prev[j] = 0.0
+            m_guide[j] = math.inf
+            continue
+        s = lam_n[j] / (dt * area[j]) if area[j] > 0.0 else 0.0
+        if bilateral:
+            s = abs(s)
+        sigma_n[j] = s if s > 0.0 else 0.0
+        inv = 0.0
+        if lam_n[j] != 0.0 and area[j] > 0.0:
+            for k in range(gnode.shape[1]):
+                w = gw[j, k]
+                if w != 0.0:
+                    inv += w * guide_load[gnode[j, k]] / (area[j] * mass[gnode[j, k]])
+        m_guide[j] = 1.0 / inv if inv > 0.0 else math.inf
+        vf = _relative_velocity(vx, vy, j, i_g, gnode, gw, tx[j], ty[j])
+        v_free[j] = vf if abs(vf) > idle_slip else 0.0
+        v_prev[j] = _relative_velocity(vx_old, vy_old, j, i_g, gnode, gw, tx[j], ty[j])
+
+
+@njit(cache=True)
+def capped_tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, cap, max_sweeps, rel_tol, lam_t, slip):
+    """Friction impulses lam_t (N s, on the slave along t) with |lam_t| <= cap (eq. 6.83).
+
+    The cap is the column's friction force times dt, tau S dt (tau already capped by Coulomb and
+    by the single-pair sticking force).  Projected Gauss-Seidel sweeps as in the slide line's own
+    tangential step (nodes sharing guide nodes), until the largest relative-velocity change of a
+    sweep is below ``rel_tol`` of the first.  ``slip`` receives the corrected slip (v_g - v_G).t.
+    Returns the sweeps done.
+    """
+    ns = slave.size
+    for j in range(ns):
+        lam_t[j] = 0.0
+    scale = 0.0
+    sweeps = 0
+    for sweep in range(max_sweeps):
+        sweeps += 1
+        change = 0.0
+        for j in range(ns):
+            if cap[j] <= 0.0:
+                continue
+            i_g = slave[j]
+            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            s = _relative_velocity(vx, vy, j, i_g, gnode, gw, tx[j], ty[j])
+            new = lam_t[j] - s / inv_pair
+            if new > cap[j]:
+                new = cap[j]
+            elif new < -cap[j]:
+                new = -cap[j]
+            dp = new - lam_t[j]
+            if dp == 0.0:
+                continue
+            lam_t[j] = new
+            _apply(vx, vy, mass, j, i_g, gnode, gw, tx[j], ty[j], dp)
+            dv = abs(dp * inv_pair)
+            if dv > change:
+                change = dv
+        if sweep == 0:
+            scale = change
+        if change <= rel_tol * scale:
+            break
+    for j in range(ns):
+        slip[j] = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j]) if active[j] else 0.0
+    return sweeps
