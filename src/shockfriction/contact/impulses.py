@@ -24,8 +24,10 @@ friction work is counted (zero for a sticking pair).
 
 Normal step (unilateral by default): the target relative normal velocity is
 w_n = -g/dt (g the gap at t^n), so an open gap that the free motion would overrun
-closes exactly at t^{n+1} and a penetration is pushed out; the accumulated normal
-impulse is kept >= 0 (no tension).  With ``bilateral`` (the thesis's permanent
+closes exactly at t^{n+1}; a penetration (g < 0) is removed by a tenth per step
+(w_n = -0.1 g/dt: pushing it out in one step pumps energy into the contact, which
+was seen to go unstable at an axisymmetric axis); the accumulated normal impulse is
+kept >= 0 (no tension).  With ``bilateral`` (the thesis's permanent
 contact, eqs. 3.64-3.66) it may be negative.
 
 Tangential step: free slip s* = (v_g - v_G).t after the normal step; the law gives
@@ -49,6 +51,9 @@ import math
 from numba import njit
 
 from shockfriction.friction.laws import traction_limit
+
+#: fraction of an existing penetration removed per step (open gaps close in one step)
+PENETRATION_RELAXATION = 0.1
 
 
 @njit(cache=True)
@@ -94,7 +99,8 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
     """Contact step: normal impulses ``lam_n`` (N s, >= 0 compressive unless bilateral).
 
     ``dt`` is the step over which the positions advance: the target relative normal
-    velocity is -gap/dt.  ``gnode[j, :]``, ``gw[j, :]`` are the guide nodes and weights of
+    velocity is -gap/dt for an open gap (closed exactly at t^{n+1}) and
+    -PENETRATION_RELAXATION gap/dt for a penetration (removed gradually).  ``gnode[j, :]``, ``gw[j, :]`` are the guide nodes and weights of
     pair j (weight 0 pads).  Corrects ``vx, vy`` in place.  Returns the number of sweeps done.
     """
     ns = slave.size
@@ -111,7 +117,7 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
             i_g = slave[j]
             inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
             w = _relative_velocity(vx, vy, j, i_g, gnode, gw, nx[j], ny[j])
-            target = -gap[j] / dt
+            target = -gap[j] / dt if gap[j] > 0.0 else -PENETRATION_RELAXATION * gap[j] / dt
             new = lam_n[j] + (target - w) / inv_pair
             if not bilateral and new < 0.0:
                 new = 0.0

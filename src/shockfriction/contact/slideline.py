@@ -242,8 +242,11 @@ class SlideLine:
             self.gnode = np.zeros((ns, k), np.int64)
             self.gw = np.zeros((ns, k))
         gr = (gx if self.radius_axis == 0 else gy) if self.axisymmetric else np.ones_like(gx)
+        xbar, ybar = np.zeros(ns), np.zeros(ns)
         hat_weights(self.xi_prev, self.xi_node, self.xi_next, self.seg, self.coef, self.active, gx, gy, gr,
-                    self.guide_imp, self.periodic, self.gnode, self.gw)
+                    self.guide_imp, self.periodic, self.gnode, self.gw, xbar, ybar)
+        # the gap consistent with the averaged guide velocity (equal to the point gap on a flat guide)
+        self.gap[:] = np.where(self.active, (xs - xbar) * self.nx + (ys - ybar) * self.ny, 0.0)
 
     def nodal_areas(self, x, y) -> np.ndarray:
         area = slave_nodal_areas(x, y, self.slave_side, self.axisymmetric, self.radius_axis)
