@@ -11,7 +11,7 @@ from shockfriction.deck.run import NODE_QUANTITIES, RunDeck
 from shockfriction.errors import DeckError
 from shockfriction.hydro import matprops as mp
 from shockfriction.hydro.eos import isentrope_table
-from shockfriction.hydro.kernels import cell_volumes, initial_cell_state
+from shockfriction.hydro.kernels import cell_volumes, initial_cell_state, nodal_masses
 from shockfriction.hydro.state import State
 from shockfriction.materials.library import SCG_ORDER, get_material
 from shockfriction.mesh.assembly import Mesh
@@ -210,7 +210,7 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     rho = props[mat, mp.P_RHO0].copy()
     cmass = rho * vol
     mass_own = np.zeros(mesh.n_nodes)
-    np.add.at(mass_own, mesh.conn.ravel(), np.repeat(cmass / 4.0, 4))
+    nodal_masses(mesh.conn, mesh.x, mesh.y, rho, axi, mass_own)
     e = np.zeros(mesh.n_cells)
     for k, body in enumerate(deck.bodies):
         if body.eos == "ideal-gas":
@@ -222,6 +222,11 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     for k, body in enumerate(deck.bodies):
         s0, s1 = mesh.node_start[k], mesh.node_start[k + 1]
         vx[s0:s1], vy[s0:s1] = body.velocity
+        if body.radial_velocity is not None:  # v = v_r (x, y)/|(x, y)| added (Noh-type problems)
+            rr = np.hypot(mesh.x[s0:s1], mesh.y[s0:s1])
+            safe = np.where(rr > 0.0, rr, 1.0)
+            vx[s0:s1] += np.where(rr > 0.0, body.radial_velocity * mesh.x[s0:s1] / safe, 0.0)
+            vy[s0:s1] += np.where(rr > 0.0, body.radial_velocity * mesh.y[s0:s1] / safe, 0.0)
 
     # ---- node groups: periodic sides and ties
     pairs: list[tuple[int, int]] = []
