@@ -1,22 +1,24 @@
 """Contact (normal) and friction (tangential) velocity corrections by impulses (thesis 3.3.2-3.3.3).
 
 Both steps act on the free nodal velocities v* = v^{n-1/2} + dt F/m (eqs. 3.54-3.60)
-of a slave node g and of its projection G on the guide segment [X_0, X_1] at
-``coef`` (eqs. 3.61-3.63).  One consistent sign (the digest's section 5.4 errata):
-an impulse P (N s) along a unit direction d acts +P d on the slave node and -P d on
-the projection, and the projection's impulse is shared by the guide nodes as
-(1 - coef) P and coef P, so momentum is conserved exactly.  The velocity at the
-projection v_G = (1 - coef) v_0 + coef v_1 then changes by -P/m_G with the
-projection mass
+of a slave node g and of its projection G on the guide (eqs. 3.61-3.63).  The
+projection is a set of guide nodes i with weights w_i (sum 1), given per pair as
+rows of ``gnode``/``gw``: (1 - coef, coef) on the ends of the paired segment (the
+thesis's point share, :func:`point_weights`) or the mortar-type weights of
+:func:`shockfriction.contact.pairing.hat_weights`.  Its velocity is
+v_G = sum w_i v_i.  One consistent sign (the digest's section 5.4 errata): an
+impulse P (N s) along a unit direction d acts +P d on the slave node and -P d on
+the projection, shared by the guide nodes as w_i P, so momentum is conserved
+exactly.  v_G then changes by -P/m_G with the projection mass
 
-    1/m_G = (1 - coef)^2/m_0 + coef^2/m_1,
+    1/m_G = sum_i w_i^2/m_i   (= (1 - coef)^2/m_0 + coef^2/m_1 for the point share),
 
 and the relative velocity w = (v_g - v_G).d by P (1/m_g + 1/m_G).  The sticking
 ("welding") impulse that cancels w is therefore the reduced-mass one of eq. 3.76,
 
     P_* = -w m_g m_G/(m_g + m_G),
 
-exact for every coef (the thesis's m_G = (1 - coef) m_0 + coef m_1 with a velocity
+exact for every share (the thesis's m_G = (1 - coef) m_0 + coef m_1 with a velocity
 share leaves a residual slip when 0 < coef < 1; both agree at coef = 0 or 1 and
 for equal guide masses the impulse shares are the same).  The work of the impulses
 over the step is -P (w^{n-1/2} + w^{n+1/2})/2 (:func:`impulse_work`), which is how
