@@ -184,7 +184,7 @@ class SlideLine:
         self._win_lam_t = np.zeros(ns)
         self._win_slip = np.zeros(ns)
         self._win_time = 0.0
-        self._next_record = 0.0
+        self._next_record = self.record_interval if math.isfinite(self.record_interval) else 0.0
         self.record = InterfaceRecord(name, self.slave.copy())
         self.sweeps_normal = 0
         self.sweeps_tangential = 0
