@@ -28,18 +28,24 @@ def block(name, x0, x1, y0, y1, nx, ny, boundary, velocity=("0 m/s", "0 m/s"), *
 
 
 def pressure_shear_deck(mu=0.1, speed=100.0, angle_deg=30.0, thickness_mm=3.0, ny=60, nx_flyer=2, nx_target=3,
-                        end="1.5 us", law="coulomb", record="10 ns"):
-    """Pressure-shear impact of two identical elastic steel plates, 1D periodic strip."""
+                        end="1.5 us", law="coulomb", record="10 ns", heat="none", flyer_material="SS304",
+                        target_material="SS304", friction_extra=None, yield_stress="100 GPa"):
+    """Pressure-shear impact of two identical elastic steel plates, 1D periodic strip.
+
+    The library materials only lend their thermal data (heat share, temperature); the
+    mechanical data are those of the linear-elastic steel."""
     vn = speed * math.cos(math.radians(angle_deg))
     vt = speed * math.sin(math.radians(angle_deg))
     per = {"left": "periodic", "right": "periodic"}
     return {
         "title": "pressure-shear", "geometry": "planar", "time": {"end": end, "cfl": 0.5},
-        "bodies": [block("flyer", 0.0, 0.1, -thickness_mm, 0.0, nx_flyer, ny, per, (f"{vt} m/s", f"{vn} m/s")),
-                   block("target", 0.0, 0.1, 0.0, thickness_mm, nx_target, ny, per)],
+        "bodies": [block("flyer", 0.0, 0.1, -thickness_mm, 0.0, nx_flyer, ny, per, (f"{vt} m/s", f"{vn} m/s"),
+                         material=flyer_material, yield_stress=yield_stress),
+                   block("target", 0.0, 0.1, 0.0, thickness_mm, nx_target, ny, per, material=target_material,
+                         yield_stress=yield_stress)],
         "slide_lines": [{"name": "interface", "guide": {"body": "target", "side": "bottom"},
-                         "slave": {"body": "flyer", "side": "top"}, "record_interval": record,
-                         "friction": {"law": law, "mu0": mu}}],
+                         "slave": {"body": "flyer", "side": "top"}, "record_interval": record, "heat": heat,
+                         "friction": {"law": law, "mu0": mu, **(friction_extra or {})}}],
         "probes": [{"name": "rear", "body": "target", "node": [0, -1], "quantities": ["vx", "vy"]}],
     }
 

@@ -240,12 +240,12 @@ def test_momentum_conserved_and_energy_balanced(cfg):
     vy_old = vy + rng.normal(0.0, 1.0, vy.size)
     vx_free, vy_free = vx.copy(), vy.copy()
     if draw_segment_weights := (rng.uniform() < 0.5):
-        # random multi-node projections (as the segment-averaged share gives): weights sum to 1
+        # random multi-node projections (as the mortar-type share gives): weights sum to 1
         k = 4
         gnode = rng.integers(0, guide.size, (ns, k))
         gw = rng.uniform(0, 1, (ns, k))
         gw /= gw.sum(axis=1, keepdims=True)
-        for j in range(ns):    # distinct nodes per row, as tributary_weights guarantees
+        for j in range(ns):    # distinct nodes per row, as hat_weights guarantees
             _, first = np.unique(gnode[j], return_index=True)
             mask = np.zeros(k, bool)
             mask[first] = True

@@ -1,22 +1,24 @@
 """Contact (normal) and friction (tangential) velocity corrections by impulses (thesis 3.3.2-3.3.3).
 
 Both steps act on the free nodal velocities v* = v^{n-1/2} + dt F/m (eqs. 3.54-3.60)
-of a slave node g and of its projection G on the guide segment [X_0, X_1] at
-``coef`` (eqs. 3.61-3.63).  One consistent sign (the digest's section 5.4 errata):
-an impulse P (N s) along a unit direction d acts +P d on the slave node and -P d on
-the projection, and the projection's impulse is shared by the guide nodes as
-(1 - coef) P and coef P, so momentum is conserved exactly.  The velocity at the
-projection v_G = (1 - coef) v_0 + coef v_1 then changes by -P/m_G with the
-projection mass
+of a slave node g and of its projection G on the guide (eqs. 3.61-3.63).  The
+projection is a set of guide nodes i with weights w_i (sum 1), given per pair as
+rows of ``gnode``/``gw``: (1 - coef, coef) on the ends of the paired segment (the
+thesis's point share, :func:`point_weights`) or the mortar-type weights of
+:func:`shockfriction.contact.pairing.hat_weights`.  Its velocity is
+v_G = sum w_i v_i.  One consistent sign (the digest's section 5.4 errata): an
+impulse P (N s) along a unit direction d acts +P d on the slave node and -P d on
+the projection, shared by the guide nodes as w_i P, so momentum is conserved
+exactly.  v_G then changes by -P/m_G with the projection mass
 
-    1/m_G = (1 - coef)^2/m_0 + coef^2/m_1,
+    1/m_G = sum_i w_i^2/m_i   (= (1 - coef)^2/m_0 + coef^2/m_1 for the point share),
 
 and the relative velocity w = (v_g - v_G).d by P (1/m_g + 1/m_G).  The sticking
 ("welding") impulse that cancels w is therefore the reduced-mass one of eq. 3.76,
 
     P_* = -w m_g m_G/(m_g + m_G),
 
-exact for every coef (the thesis's m_G = (1 - coef) m_0 + coef m_1 with a velocity
+exact for every share (the thesis's m_G = (1 - coef) m_0 + coef m_1 with a velocity
 share leaves a residual slip when 0 < coef < 1; both agree at coef = 0 or 1 and
 for equal guide masses the impulse shares are the same).  The work of the impulses
 over the step is -P (w^{n-1/2} + w^{n+1/2})/2 (:func:`impulse_work`), which is how
@@ -24,8 +26,10 @@ friction work is counted (zero for a sticking pair).
 
 Normal step (unilateral by default): the target relative normal velocity is
 w_n = -g/dt (g the gap at t^n), so an open gap that the free motion would overrun
-closes exactly at t^{n+1} and a penetration is pushed out; the accumulated normal
-impulse is kept >= 0 (no tension).  With ``bilateral`` (the thesis's permanent
+closes exactly at t^{n+1}; a penetration (g < 0) is removed by a tenth per step
+(w_n = -0.1 g/dt: pushing it out in one step pumps energy into the contact, which
+was seen to go unstable at an axisymmetric axis); the accumulated normal impulse is
+kept >= 0 (no tension).  With ``bilateral`` (the thesis's permanent
 contact, eqs. 3.64-3.66) it may be negative.
 
 Tangential step: free slip s* = (v_g - v_G).t after the normal step; the law gives
@@ -49,6 +53,9 @@ import math
 from numba import njit
 
 from shockfriction.friction.laws import traction_limit
+
+#: fraction of an existing penetration removed per step (open gaps close in one step)
+PENETRATION_RELAXATION = 0.1
 
 
 @njit(cache=True)
@@ -94,7 +101,8 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
     """Contact step: normal impulses ``lam_n`` (N s, >= 0 compressive unless bilateral).
 
     ``dt`` is the step over which the positions advance: the target relative normal
-    velocity is -gap/dt.  ``gnode[j, :]``, ``gw[j, :]`` are the guide nodes and weights of
+    velocity is -gap/dt for an open gap (closed exactly at t^{n+1}) and
+    -PENETRATION_RELAXATION gap/dt for a penetration (removed gradually).  ``gnode[j, :]``, ``gw[j, :]`` are the guide nodes and weights of
     pair j (weight 0 pads).  Corrects ``vx, vy`` in place.  Returns the number of sweeps done.
     """
     ns = slave.size
@@ -111,7 +119,7 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
             i_g = slave[j]
             inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
             w = _relative_velocity(vx, vy, j, i_g, gnode, gw, nx[j], ny[j])
-            target = -gap[j] / dt
+            target = -gap[j] / dt if gap[j] > 0.0 else -PENETRATION_RELAXATION * gap[j] / dt
             new = lam_n[j] + (target - w) / inv_pair
             if not bilateral and new < 0.0:
                 new = 0.0

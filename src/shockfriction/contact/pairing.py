@@ -254,7 +254,8 @@ def _add_weight(gnode, gw, j, used, node, c):
 
 
 @njit(cache=True)
-def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_nodes, periodic, gnode, gw):
+def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_nodes, periodic, gnode, gw,
+                xbar, ybar):
     """Mortar-type guide weights: w_ij = int N_i N_j r dl / int N_j r dl over the guide.
 
     N_i are the guide's hat functions, N_j the slave node's hat mapped onto the guide by
@@ -266,8 +267,14 @@ def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_
     in plane strain and in axisymmetry.  ``guide_nodes`` are the (representative) node indices of
     the guide points; repeated nodes (periodic seam) are merged.  A node whose hat maps to a
     zero-length interval falls back on the point share (1 - coef, coef).
+
+    ``xbar, ybar`` receive the guide position averaged with the same weight, int N_j r X dl /
+    int N_j r dl (unwrapped on periodic lines): the gap (X_g - Xbar).n is then the one whose
+    rate is the constrained relative velocity (v_g - sum w_i v_i).n.
     """
     nseg = gx.size - 1
+    dxp = gx[-1] - gx[0]
+    dyp = gy[-1] - gy[0]
     kmax = gnode.shape[1]
     for j in range(xi_node.size):
         for q in range(kmax):
@@ -277,6 +284,8 @@ def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_
             continue
         used = 0
         total = 0.0
+        sx = 0.0
+        sy = 0.0
         x0 = xi_node[j]
         for side in range(2):
             far = xi_prev[j] if side == 0 else xi_next[j]
@@ -291,6 +300,7 @@ def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_
                 hi = min(b, kc + 1.0)
                 if hi > lo:
                     length = math.sqrt((gx[k + 1] - gx[k]) ** 2 + (gy[k + 1] - gy[k]) ** 2)
+                    periods = (kc - k) // nseg if periodic else 0
                     c0 = 0.0
                     c1 = 0.0
                     for q, wq in ((0, 1.0), (1, 4.0), (2, 1.0)):
@@ -301,6 +311,8 @@ def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_
                         f = wq * nj * r * length * (hi - lo) / 6.0
                         c0 += f * (1.0 - u)
                         c1 += f * u
+                        sx += f * (gx[k] + u * (gx[k + 1] - gx[k]) + periods * dxp)
+                        sy += f * (gy[k] + u * (gy[k + 1] - gy[k]) + periods * dyp)
                     total += c0 + c1
                     used = _add_weight(gnode, gw, j, used, guide_nodes[k], c0)
                     used = _add_weight(gnode, gw, j, used, guide_nodes[k + 1], c1)
@@ -308,13 +320,18 @@ def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_
         if total > 0.0:
             for q in range(used):
                 gw[j, q] /= total
+            xbar[j] = sx / total
+            ybar[j] = sy / total
         else:
             for q in range(kmax):
                 gw[j, q] = 0.0
-            gnode[j, 0] = guide_nodes[seg[j]]
-            gnode[j, 1] = guide_nodes[seg[j] + 1]
+            k = seg[j]
+            gnode[j, 0] = guide_nodes[k]
+            gnode[j, 1] = guide_nodes[k + 1]
             gw[j, 0] = 1.0 - coef[j]
             gw[j, 1] = coef[j]
+            xbar[j] = gx[k] + coef[j] * (gx[k + 1] - gx[k])
+            ybar[j] = gy[k] + coef[j] * (gy[k + 1] - gy[k])
             if gnode[j, 1] == gnode[j, 0]:
                 gw[j, 0] = 1.0
                 gw[j, 1] = 0.0

@@ -184,7 +184,7 @@ class SlideLine:
         self._win_lam_t = np.zeros(ns)
         self._win_slip = np.zeros(ns)
         self._win_time = 0.0
-        self._next_record = 0.0
+        self._next_record = self.record_interval if math.isfinite(self.record_interval) else 0.0
         self.record = InterfaceRecord(name, self.slave.copy())
         self.sweeps_normal = 0
         self.sweeps_tangential = 0
@@ -244,8 +244,11 @@ class SlideLine:
             self.gnode = np.zeros((ns, k), np.int64)
             self.gw = np.zeros((ns, k))
         gr = (gx if self.radius_axis == 0 else gy) if self.axisymmetric else np.ones_like(gx)
+        xbar, ybar = np.zeros(ns), np.zeros(ns)
         hat_weights(self.xi_prev, self.xi_node, self.xi_next, self.seg, self.coef, self.active, gx, gy, gr,
-                    self.guide_imp, self.periodic, self.gnode, self.gw)
+                    self.guide_imp, self.periodic, self.gnode, self.gw, xbar, ybar)
+        # the gap consistent with the averaged guide velocity (equal to the point gap on a flat guide)
+        self.gap[:] = np.where(self.active, (xs - xbar) * self.nx + (ys - ybar) * self.ny, 0.0)
 
     def nodal_areas(self, x, y) -> np.ndarray:
         area = slave_nodal_areas(x, y, self.slave_side, self.axisymmetric, self.radius_axis)

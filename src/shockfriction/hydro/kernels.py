@@ -266,6 +266,19 @@ def apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, d
 
 
 @njit(cache=True)
+def impulse_work(mass_own, vx_old, vy_old, jx, jy, jx_prev, jy_prev):
+    """Kinetic-energy change that velocity jumps J (constraints, interfaces) make in the leapfrog
+    kinetic energy K^n = sum m v^{n-1/2}.v^{n+1/2}/2 at t^n: sum m v^{n-1/2}.(J^n + J^{n-1})/2.
+    Copies J into J_prev for the next step."""
+    w = 0.0
+    for n in range(vx_old.shape[0]):
+        w += mass_own[n] * (vx_old[n] * (jx[n] + jx_prev[n]) + vy_old[n] * (jy[n] + jy_prev[n]))
+        jx_prev[n] = jx[n]
+        jy_prev[n] = jy[n]
+    return 0.5 * w
+
+
+@njit(cache=True)
 def sum_groups(fx, fy, grp_ptr, grp_nodes):
     """Sum the forces of each node group (tie, periodic pair) and give the sum to every member."""
     for g in range(grp_ptr.shape[0] - 1):

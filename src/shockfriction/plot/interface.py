@@ -1,4 +1,8 @@
-"""Node-by-time maps of slide-line records (normal stress, shear, slip rate, cumulated slip, work)."""
+"""Node-by-time maps of slide-line records (normal stress, shear, slip rate, cumulated slip, work).
+
+Colour limits are the 1st and 99th percentiles (symmetric about 0 for signed quantities), so a
+one-window impact spike does not wash out the map; unpaired nodes are blank.
+"""
 
 from __future__ import annotations
 
@@ -30,13 +34,18 @@ def plot_interface(data: dict[str, dict[str, np.ndarray]], out_dir: str | Path) 
             continue
         nodes = np.arange(d["sigma_n_Pa"].shape[1])
         fig, axes = plt.subplots(1, len(PANELS), figsize=(4.2 * len(PANELS), 3.6), constrained_layout=True)
+        paired = d["active"].astype(bool) if "active" in d else np.ones(d[PANELS[0][0]].shape, bool)
         for ax, (key, label, scale, cmap) in zip(axes, PANELS):
-            z = d[key] * scale
+            z = np.where(paired, d[key] * scale, np.nan)
+            finite = z[np.isfinite(z)]
+            if finite.size == 0:
+                finite = np.zeros(1)
             if cmap == "RdBu_r":
-                lim = float(np.max(np.abs(z))) or 1.0
+                lim = float(np.percentile(np.abs(finite), 99)) or 1.0
                 kw = dict(vmin=-lim, vmax=lim)
             else:
-                kw = {}
+                lo, hi = np.percentile(finite, [1, 99])
+                kw = dict(vmin=float(lo), vmax=float(hi) if hi > lo else float(lo) + 1.0)
             mesh = ax.pcolormesh(nodes, t_us, z, shading="nearest", cmap=cmap, **kw)
             fig.colorbar(mesh, ax=ax, label=label)
             ax.set_xlabel("slave node")
