@@ -1,0 +1,267 @@
+"""Contact (normal) and friction (tangential) velocity corrections by impulses (thesis 3.3.2-3.3.3).
+
+Both steps act on the free nodal velocities v* = v^{n-1/2} + dt F/m (eqs. 3.54-3.60)
+of a slave node g and of its projection G on the guide (eqs. 3.61-3.63).  The
+projection is a set of guide nodes i with weights w_i (sum 1), given per pair as
+rows of ``gnode``/``gw``: (1 - coef, coef) on the ends of the paired segment (the
+thesis's point share, :func:`point_weights`) or the mortar-type weights of
+:func:`shockfriction.contact.pairing.hat_weights`.  Its velocity is
+v_G = sum w_i v_i.  One consistent sign (the digest's section 5.4 errata): an
+impulse P (N s) along a unit direction d acts +P d on the slave node and -P d on
+the projection, shared by the guide nodes as w_i P, so momentum is conserved
+exactly.  v_G then changes by -P/m_G with the projection mass
+
+    1/m_G = sum_i w_i^2/m_i   (= (1 - coef)^2/m_0 + coef^2/m_1 for the point share),
+
+and the relative velocity w = (v_g - v_G).d by P (1/m_g + 1/m_G).  The sticking
+("welding") impulse that cancels w is therefore the reduced-mass one of eq. 3.76,
+
+    P_* = -w m_g m_G/(m_g + m_G),
+
+exact for every share (the thesis's m_G = (1 - coef) m_0 + coef m_1 with a velocity
+share leaves a residual slip when 0 < coef < 1; both agree at coef = 0 or 1 and
+for equal guide masses the impulse shares are the same).  The work of the impulses
+over the step is -P (w^{n-1/2} + w^{n+1/2})/2 (:func:`impulse_work`), which is how
+friction work is counted (zero for a sticking pair).
+
+Normal step (unilateral by default): the target relative normal velocity is
+w_n = -g/dt (g the gap at t^n), so an open gap that the free motion would overrun
+closes exactly at t^{n+1}; a penetration (g < 0) is removed by a tenth per step
+(w_n = -0.1 g/dt: pushing it out in one step pumps energy into the contact, which
+was seen to go unstable at an axisymmetric axis); the accumulated normal impulse is
+kept >= 0 (no tension).  With ``bilateral`` (the thesis's permanent
+contact, eqs. 3.64-3.66) it may be negative.
+
+Tangential step: free slip s* = (v_g - v_G).t after the normal step; the law gives
+the traction limit tau_max(|F_N|, |s*|, Y_g, Y_G) (eq. 3.77-3.81, free slip as in
+eq. 3.79) and the friction impulse is the sticking impulse capped by
+tau_max S_g dt (eqs. 3.82-3.85 with the signs fixed).  Nodes without a compressive
+normal impulse get no friction (bilateral contact uses |F_N|).
+
+Several slave nodes may share guide nodes; the corrections are applied node after
+node (Gauss-Seidel) and the sweep is repeated until the largest relative-velocity
+change of a sweep falls below ``rel_tol`` times the initial one (at most
+``max_sweeps``; ``max_sweeps = 1`` is the thesis's single pass).  Accumulated
+impulses are projected (>= 0 normal, |P_t| <= cap), so the iteration is a
+projected Gauss-Seidel on the contact conditions.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from shockfriction.friction.laws import traction_limit
+
+#: fraction of an existing penetration removed per step (open gaps close in one step)
+PENETRATION_RELAXATION = 0.1
+
+
+@njit(cache=True)
+def _inverse_pair_mass(j, i_g, gnode, gw, mass):
+    """1/m_g + 1/m_G for pair j."""
+    inv = 1.0 / mass[i_g]
+    for k in range(gnode.shape[1]):
+        w = gw[j, k]
+        if w != 0.0:
+            inv += w * w / mass[gnode[j, k]]
+    return inv
+
+
+@njit(cache=True)
+def _relative_velocity(vx, vy, j, i_g, gnode, gw, dx, dy):
+    """(v_g - v_G).d with v_G = sum_i w_i v_i."""
+    ux = vx[i_g]
+    uy = vy[i_g]
+    for k in range(gnode.shape[1]):
+        w = gw[j, k]
+        if w != 0.0:
+            ux -= w * vx[gnode[j, k]]
+            uy -= w * vy[gnode[j, k]]
+    return ux * dx + uy * dy
+
+
+@njit(cache=True)
+def _apply(vx, vy, mass, j, i_g, gnode, gw, dx, dy, p):
+    """Impulse +p d on the slave node, -p d on its projection shared w_i p by the guide nodes."""
+    vx[i_g] += p * dx / mass[i_g]
+    vy[i_g] += p * dy / mass[i_g]
+    for k in range(gnode.shape[1]):
+        w = gw[j, k]
+        if w != 0.0:
+            i = gnode[j, k]
+            vx[i] -= w * p * dx / mass[i]
+            vy[i] -= w * p * dy / mass[i]
+
+
+@njit(cache=True)
+def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilateral,
+                max_sweeps, rel_tol, lam_n):
+    """Contact step: normal impulses ``lam_n`` (N s, >= 0 compressive unless bilateral).
+
+    ``dt`` is the step over which the positions advance: the target relative normal
+    velocity is -gap/dt for an open gap (closed exactly at t^{n+1}) and
+    -PENETRATION_RELAXATION gap/dt for a penetration (removed gradually).  ``gnode[j, :]``, ``gw[j, :]`` are the guide nodes and weights of
+    pair j (weight 0 pads).  Corrects ``vx, vy`` in place.  Returns the number of sweeps done.
+    """
+    ns = slave.size
+    for j in range(ns):
+        lam_n[j] = 0.0
+    scale = 0.0
+    sweeps = 0
+    for sweep in range(max_sweeps):
+        sweeps += 1
+        change = 0.0
+        for j in range(ns):
+            if not active[j]:
+                continue
+            i_g = slave[j]
+            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            w = _relative_velocity(vx, vy, j, i_g, gnode, gw, nx[j], ny[j])
+            target = -gap[j] / dt if gap[j] > 0.0 else -PENETRATION_RELAXATION * gap[j] / dt
+            new = lam_n[j] + (target - w) / inv_pair
+            if not bilateral and new < 0.0:
+                new = 0.0
+            dp = new - lam_n[j]
+            if dp == 0.0:
+                continue
+            lam_n[j] = new
+            _apply(vx, vy, mass, j, i_g, gnode, gw, nx[j], ny[j], dp)
+            dv = abs(dp * inv_pair)
+            if dv > change:
+                change = dv
+        if sweep == 0:
+            scale = change
+        if change <= rel_tol * scale:
+            break
+    return sweeps
+
+
+@njit(cache=True)
+def tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, dt, area,
+                    law, law_params, y_slave, y_guide, lam_n, max_sweeps, rel_tol,
+                    lam_t, slip_free, slip):
+    """Friction step: tangential impulses ``lam_t`` (N s, on the slave along t).
+
+    ``slip_free[j]`` is the free slip s* = (v_g - v_G).t after the normal step (the
+    law's velocity, eq. 3.79) and ``slip[j]`` the corrected slip.  ``y_slave[j]``,
+    ``y_guide[j]`` are the yield stresses of the two sides at node j (Tresca laws only);
+    ``dt`` is the velocity step (force = impulse/dt).  Returns the sweeps done.
+    """
+    ns = slave.size
+    cap = lam_n.copy()
+    for j in range(ns):
+        lam_t[j] = 0.0
+        slip_free[j] = 0.0
+        slip[j] = 0.0
+        cap[j] = 0.0
+        if not active[j]:
+            continue
+        s = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j])
+        slip_free[j] = s
+        if lam_n[j] == 0.0 or area[j] <= 0.0:
+            continue
+        sigma_n = lam_n[j] / (dt * area[j])
+        cap[j] = traction_limit(law, law_params, sigma_n, abs(s), y_slave[j], y_guide[j]) * area[j] * dt
+    scale = 0.0
+    sweeps = 0
+    for sweep in range(max_sweeps):
+        sweeps += 1
+        change = 0.0
+        for j in range(ns):
+            if cap[j] <= 0.0:
+                continue
+            i_g = slave[j]
+            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            s = _relative_velocity(vx, vy, j, i_g, gnode, gw, tx[j], ty[j])
+            new = lam_t[j] - s / inv_pair
+            if new > cap[j]:
+                new = cap[j]
+            elif new < -cap[j]:
+                new = -cap[j]
+            dp = new - lam_t[j]
+            if dp == 0.0:
+                continue
+            lam_t[j] = new
+            _apply(vx, vy, mass, j, i_g, gnode, gw, tx[j], ty[j], dp)
+            dv = abs(dp * inv_pair)
+            if dv > change:
+                change = dv
+        if sweep == 0:
+            scale = change
+        if change <= rel_tol * scale:
+            break
+    for j in range(ns):
+        if active[j]:
+            slip[j] = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j])
+    return sweeps
+
+
+@njit(cache=True)
+def impulse_work(vx, vy, vx_old, vy_old, slave, gnode, gw, dx, dy, active, lam, work):
+    """Work of the pair impulses over the step: work[j] = -lam[j] (w_old + w_new)/2 (J, >= 0 when dissipated).
+
+    w = (v_g - v_G).d is the relative velocity along d (n or t) of node j, at t^{n-1/2}
+    (``vx_old, vy_old``) and t^{n+1/2} (``vx, vy``, after all corrections).  Summed over the
+    pairs and the two directions this is exactly minus the change of the leapfrog kinetic
+    energy sum m dv.(v^{n-1/2} + v^{n+1/2})/2 caused by the corrections, so a sticking pair
+    (no slip before and after) does no work, whatever the free slip was.
+    """
+    for j in range(slave.size):
+        work[j] = 0.0
+        if not active[j] or lam[j] == 0.0:
+            continue
+        w_new = _relative_velocity(vx, vy, j, slave[j], gnode, gw, dx[j], dy[j])
+        w_old = _relative_velocity(vx_old, vy_old, j, slave[j], gnode, gw, dx[j], dy[j])
+        work[j] = -0.5 * lam[j] * (w_old + w_new)
+
+
+@njit(cache=True)
+def point_weights(guide, seg, coef, active, gnode, gw):
+    """The thesis's point share: guide nodes (guide[seg], guide[seg+1]) with weights (1 - coef, coef)."""
+    for j in range(seg.size):
+        for k in range(gnode.shape[1]):
+            gnode[j, k] = guide[0]
+            gw[j, k] = 0.0
+        if not active[j]:
+            continue
+        gnode[j, 0] = guide[seg[j]]
+        gnode[j, 1] = guide[seg[j] + 1]
+        gw[j, 0] = 1.0 - coef[j]
+        gw[j, 1] = coef[j]
+        if gnode[j, 1] == gnode[j, 0]:     # one node group (periodic seam)
+            gw[j, 0] = 1.0
+            gw[j, 1] = 0.0
+
+
+@njit(cache=True)
+def deposit_friction_heat(work, active, seg, slave_share, slave_cell_before, slave_cell_after,
+                          weight_before, guide_cell, cell_mass, energy):
+    """Frictional heat into the cells on both sides (option (b) of the digest's section 5.6).
+
+    The slave side receives ``slave_share`` (beta_T of the slave material, eq. 2.101) of
+    node j's friction work, split between its two adjacent slave cells with weights
+    ``weight_before`` and 1 - weight_before (tributary half lengths); the guide side receives
+    the rest in the guide cell next to segment ``seg[j]``.  ``energy`` is the specific
+    internal energy (J/kg) of the cells and ``cell_mass`` their masses; a cell index < 0 is
+    skipped and its share goes to the other slave cell.
+    """
+    for j in range(work.size):
+        if not active[j] or work[j] == 0.0:
+            continue
+        q_slave = slave_share * work[j]
+        q_guide = work[j] - q_slave
+        cb = slave_cell_before[j]
+        ca = slave_cell_after[j]
+        wb = weight_before[j]
+        if cb < 0:
+            wb = 0.0
+        if ca < 0:
+            wb = 1.0
+        if cb >= 0 and wb > 0.0:
+            energy[cb] += wb * q_slave / cell_mass[cb]
+        if ca >= 0 and wb < 1.0:
+            energy[ca] += (1.0 - wb) * q_slave / cell_mass[ca]
+        cg = guide_cell[seg[j]]
+        energy[cg] += q_guide / cell_mass[cg]

@@ -1,0 +1,353 @@
+"""A slide line between two body sides: pairing, contact, friction, heat and its records.
+
+The hydrocode calls :meth:`SlideLine.apply` once per cycle, after the free nodal
+velocities v* = v^{n-1/2} + dt F/m are known and before the positions advance
+(thesis eqs. 3.54-3.60).  The per-node work is done by the numba kernels of
+:mod:`~shockfriction.contact.pairing` and :mod:`~shockfriction.contact.impulses`;
+this class only gathers their arrays, keeps the running sums and the records.
+
+Records (per slave node, averaged over each record window of length
+``record_interval`` so that they are impulse-exact rather than one noisy cycle):
+
+* ``sigma_n``: normal stress = sum of normal impulses / (S_g window), compression > 0
+* ``tau``: shear stress on the slave along the guide tangent t = sum of tangential impulses / (S_g window)
+* ``slip``: mean slip rate (v_g - v_G).t over the window
+* ``cum_slip``: cumulated slip displacement, integral of the slip rate (signed)
+* ``work``: cumulated friction work of the node (J, per radian when axisymmetric)
+* ``x``, ``y``: node position at the end of the window; ``active``: paired at the last cycle
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from shockfriction.contact.impulses import (deposit_friction_heat, impulse_work, normal_step, point_weights,
+                                            tangential_step)
+from shockfriction.contact.pairing import (hat_weights, pair_slave_nodes, slave_hat_coordinates, slave_nodal_areas,
+                                           slave_tributary_lengths)
+from shockfriction.friction.laws import FRICTIONLESS
+
+
+@dataclass
+class InterfaceRecord:
+    """Time series of one slide line: lists of per-node arrays, one entry per record time."""
+
+    name: str
+    slave_nodes: np.ndarray
+    t: list = field(default_factory=list)
+    x: list = field(default_factory=list)
+    y: list = field(default_factory=list)
+    sigma_n: list = field(default_factory=list)
+    tau: list = field(default_factory=list)
+    slip: list = field(default_factory=list)
+    cum_slip: list = field(default_factory=list)
+    work: list = field(default_factory=list)
+    active: list = field(default_factory=list)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Stacked arrays, shape (n_times, n_slave_nodes) (``t`` has shape (n_times,))."""
+        n = self.slave_nodes.size
+
+        def stack(v, dtype=float):
+            return np.array(v, dtype=dtype).reshape(len(v), n)
+
+        return {
+            "t": np.array(self.t, dtype=float),
+            "x": stack(self.x), "y": stack(self.y),
+            "sigma_n": stack(self.sigma_n), "tau": stack(self.tau), "slip": stack(self.slip),
+            "cum_slip": stack(self.cum_slip), "work": stack(self.work),
+            "active": stack(self.active, bool),
+        }
+
+
+class SlideLine:
+    """Contact and friction between a guide (master) side and a sliding (slave) side.
+
+    Parameters
+    ----------
+    slave, guide:
+        Ordered node indices of the two sides (any order along each side; the guide
+        order fixes the tangent t).  With ``periodic`` each side spans exactly one
+        period, its last node being the periodic image of its first.
+    slave_cells:
+        Cell next to each slave segment (``slave[k]``-``slave[k+1]``), length ns - 1.
+    guide_cells:
+        Cell next to each guide segment, length ng - 1.
+    normal_sign:
+        +1 or -1 such that n = s (t_y, -t_x) points out of the guide body
+        (:func:`~shockfriction.contact.pairing.guide_normal_sign`).
+    law, law_params:
+        Friction law id and parameter array (:mod:`shockfriction.friction.laws`).
+    bilateral:
+        Thesis's permanent contact (tension allowed) instead of unilateral contact.
+    heat_share_slave:
+        None: friction work is not deposited (thesis ch. 3 baseline).  Otherwise the
+        share beta_T of the slave body (eq. 2.101); the rest goes to the guide cells.
+    axisymmetric, radius_axis:
+        Nodal surfaces per radian about the axis (0: x is the radius, 1: y is).
+    max_gap, max_penetration:
+        Search window of the pairing (m); default half the smallest initial guide segment.
+    guide_share:
+        ``"segment"`` (default): the projection's guide nodes and weights are the mortar-type
+        integrals of the guide's hat functions against the slave node's hat function
+        (:func:`~shockfriction.contact.pairing.hat_weights`: consistent nodal forces on the
+        guide, the contact patch test passes with non-matching meshes);
+        ``"point"``: the thesis's (1 - coef, coef) on the paired segment (eqs. 3.84-3.85).
+    node_representative:
+        For node groups that the hydrocode moves as one node (ties, periodic images): the
+        member that receives the impulses of every node of its group (the others are synced
+        by the hydrocode afterwards).  ``mass`` must then be the group mass.  Default:
+        every node represents itself.
+    """
+
+    def __init__(self, name: str, slave, guide, slave_cells, guide_cells, normal_sign: float, *,
+                 law: int = FRICTIONLESS, law_params=None, bilateral: bool = False,
+                 heat_share_slave: float | None = None, axisymmetric: bool = False, radius_axis: int = 1,
+                 periodic: bool = False, max_gap: float | None = None, max_penetration: float | None = None,
+                 max_sweeps: int = 50, rel_tol: float = 1e-10, record_interval: float = math.inf,
+                 guide_share: str = "segment",
+                 x0: np.ndarray | None = None, y0: np.ndarray | None = None,
+                 node_representative: np.ndarray | None = None):
+        self.name = name
+        slave = np.asarray(slave, dtype=np.int64)
+        guide = np.asarray(guide, dtype=np.int64)
+        slave_cells = np.asarray(slave_cells, dtype=np.int64)
+        self.periodic = bool(periodic)
+        self.slave_side = slave                      # full side, for the nodal surfaces
+        self.slave = slave[:-1].copy() if periodic else slave.copy()
+        self.guide = guide.copy()
+        self.guide_cells = np.asarray(guide_cells, dtype=np.int64)
+        rep = node_representative
+        self.slave_imp = self.slave.copy() if rep is None else np.asarray(rep, np.int64)[self.slave]
+        self.guide_imp = self.guide.copy() if rep is None else np.asarray(rep, np.int64)[self.guide]
+        if periodic:    # the guide's last node is the periodic image of its first
+            self.guide_imp[-1] = self.guide_imp[0]
+        ns = self.slave.size
+        before = np.full(ns, -1, np.int64)
+        after = np.full(ns, -1, np.int64)
+        before[1:] = slave_cells[:ns - 1]
+        after[:] = slave_cells[:ns] if slave_cells.size >= ns else np.append(slave_cells, -1)
+        if periodic:
+            before[0] = slave_cells[-1]
+        self.slave_cell_before = before
+        self.slave_cell_after = after
+        self.normal_sign = float(normal_sign)
+        self.law = int(law)
+        self.law_params = np.zeros(4) if law_params is None else np.asarray(law_params, dtype=np.float64)
+        self.bilateral = bool(bilateral)
+        self.heat_share_slave = heat_share_slave
+        self.axisymmetric = bool(axisymmetric)
+        self.radius_axis = int(radius_axis)
+        if guide_share not in ("segment", "point"):
+            raise ValueError(f"guide_share must be 'segment' or 'point', not {guide_share!r}")
+        self.guide_share = guide_share
+        self.max_sweeps = int(max_sweeps)
+        self.rel_tol = float(rel_tol)
+        self.record_interval = float(record_interval)
+        if x0 is not None and y0 is not None:
+            seg_len = np.hypot(np.diff(x0[guide]), np.diff(y0[guide]))
+            h = 0.5 * float(seg_len.min())
+        else:
+            h = math.inf
+        self.max_gap = h if max_gap is None else float(max_gap)
+        self.max_penetration = h if max_penetration is None else float(max_penetration)
+        # per-node work arrays
+        self.seg = np.full(ns, -1, np.int64)
+        self.coef = np.zeros(ns)
+        self.nx = np.zeros(ns)
+        self.ny = np.zeros(ns)
+        self.tx = np.zeros(ns)
+        self.ty = np.zeros(ns)
+        self.gap = np.zeros(ns)
+        self.active = np.zeros(ns, np.bool_)
+        self.lam_n = np.zeros(ns)
+        self.lam_t = np.zeros(ns)
+        self.work_n = np.zeros(ns)
+        self.work_t = np.zeros(ns)
+        self.slip_free = np.zeros(ns)
+        self.slip = np.zeros(ns)
+        self.area = np.zeros(ns)
+        self.xi_prev = np.zeros(ns)
+        self.xi_node = np.zeros(ns)
+        self.xi_next = np.zeros(ns)
+        self.gnode = np.zeros((ns, 2), np.int64)
+        self.gw = np.zeros((ns, 2))
+        # running sums
+        self.cum_slip = np.zeros(ns)
+        self.cum_work = np.zeros(ns)
+        self.total_friction_work = 0.0
+        self.total_contact_loss = 0.0
+        self._win_lam_n = np.zeros(ns)
+        self._win_lam_t = np.zeros(ns)
+        self._win_slip = np.zeros(ns)
+        self._win_time = 0.0
+        self._next_record = self.record_interval if math.isfinite(self.record_interval) else 0.0
+        self.record = InterfaceRecord(name, self.slave.copy())
+        self.sweeps_normal = 0
+        self.sweeps_tangential = 0
+
+    # ------------------------------------------------------------------ geometry
+    def _guide_polyline(self, x, y):
+        return x[self.guide].copy(), y[self.guide].copy()
+
+    def _wrapped_slave_coordinates(self, x, y, gx, gy):
+        """Slave node coordinates (shifted by whole periods into the guide's span on periodic lines)."""
+        xs, ys = x[self.slave].copy(), y[self.slave].copy()
+        if self.periodic:
+            dx, dy = gx[-1] - gx[0], gy[-1] - gy[0]
+            k = np.floor(((xs - gx[0]) * dx + (ys - gy[0]) * dy) / (dx * dx + dy * dy))
+            xs -= k * dx
+            ys -= k * dy
+        return xs, ys, np.arange(self.slave.size, dtype=np.int64)
+
+    def _neighbour_offsets(self, x, y):
+        """Offsets from each slave node to its previous and next slave node along the side."""
+        side = self.slave_side
+        dx = np.diff(x[side])
+        dy = np.diff(y[side])
+        ns = self.slave.size
+        next_dx, next_dy = np.zeros(ns), np.zeros(ns)
+        prev_dx, prev_dy = np.zeros(ns), np.zeros(ns)
+        has_next = np.zeros(ns, np.bool_)
+        has_prev = np.zeros(ns, np.bool_)
+        m = min(ns, dx.size)
+        next_dx[:m], next_dy[:m] = dx[:m], dy[:m]
+        has_next[:m] = True
+        prev_dx[1:], prev_dy[1:] = -dx[:ns - 1], -dy[:ns - 1]
+        has_prev[1:] = True
+        if self.periodic:
+            prev_dx[0], prev_dy[0] = -dx[-1], -dy[-1]
+            has_prev[0] = True
+        return prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next
+
+    def _projection_weights(self, x, y, xs, ys, gx, gy):
+        """Fill ``gnode, gw`` (guide nodes and weights of each pair's projection)."""
+        ns = self.slave.size
+        if self.guide_share == "point":
+            if self.gnode.shape[1] != 2:
+                self.gnode = np.zeros((ns, 2), np.int64)
+                self.gw = np.zeros((ns, 2))
+            point_weights(self.guide_imp, self.seg, self.coef, self.active, self.gnode, self.gw)
+            return
+        slave_hat_coordinates(xs, ys, *self._neighbour_offsets(x, y), self.seg, self.coef, self.active, gx, gy,
+                              self.periodic, self.xi_prev, self.xi_node, self.xi_next)
+        lo = np.minimum(self.xi_prev, self.xi_next)
+        hi = np.maximum(self.xi_prev, self.xi_next)
+        span = np.where(self.active, np.ceil(hi) - np.floor(lo), 0.0)
+        k = max(2, int(span.max()) + 2) if ns else 2
+        if self.gnode.shape[1] != k:
+            self.gnode = np.zeros((ns, k), np.int64)
+            self.gw = np.zeros((ns, k))
+        gr = (gx if self.radius_axis == 0 else gy) if self.axisymmetric else np.ones_like(gx)
+        xbar, ybar = np.zeros(ns), np.zeros(ns)
+        hat_weights(self.xi_prev, self.xi_node, self.xi_next, self.seg, self.coef, self.active, gx, gy, gr,
+                    self.guide_imp, self.periodic, self.gnode, self.gw, xbar, ybar)
+        # the gap consistent with the averaged guide velocity (equal to the point gap on a flat guide)
+        self.gap[:] = np.where(self.active, (xs - xbar) * self.nx + (ys - ybar) * self.ny, 0.0)
+
+    def nodal_areas(self, x, y) -> np.ndarray:
+        area = slave_nodal_areas(x, y, self.slave_side, self.axisymmetric, self.radius_axis)
+        if self.periodic:
+            area = area[:-1].copy()
+            area[0] += slave_nodal_areas(x, y, self.slave_side, self.axisymmetric, self.radius_axis)[-1]
+        return area
+
+    def heat_weights(self, x, y) -> np.ndarray:
+        """Share of a slave node's heat going to its cell before (tributary half lengths)."""
+        before, after = slave_tributary_lengths(x, y, self.slave_side)
+        if self.periodic:
+            before = before[:-1].copy()
+            after = after[:-1].copy()
+            before[0] = 0.5 * math.hypot(x[self.slave_side[-1]] - x[self.slave_side[-2]],
+                                         y[self.slave_side[-1]] - y[self.slave_side[-2]])
+        tot = before + after
+        return np.where(tot > 0.0, before / np.where(tot > 0.0, tot, 1.0), 0.5)
+
+    # ------------------------------------------------------------------ one cycle
+    def apply(self, x, y, vx, vy, mass, dt: float, t: float, *, dt_position: float | None = None,
+              vx_old=None, vy_old=None, cell_yield=None, cell_mass=None, cell_energy=None) -> float:
+        """Correct the free velocities ``vx, vy`` in place; return the friction work of this step (J).
+
+        ``dt`` is the velocity step (impulse = force dt) and ``dt_position`` the step that takes
+        the positions from t^n to t^{n+1} (default ``dt``; the gap closes over it).
+        ``x, y`` are the positions at t^n, ``mass`` the nodal (group) masses; ``vx_old, vy_old``
+        the velocities at t^{n-1/2}, for the friction work -P_t (s^{n-1/2} + s^{n+1/2})/2 (without
+        them the free velocities stand in, and the work is the kinetic energy the correction
+        removes from the free state); ``cell_yield`` (Pa) is
+        needed by the Tresca laws; ``cell_mass`` and ``cell_energy`` (specific internal energy,
+        J/kg, updated in place) by the heat deposit.
+        """
+        dt_pos = dt if dt_position is None else float(dt_position)
+        if vx_old is None or vy_old is None:
+            vx_old, vy_old = vx.copy(), vy.copy()
+        gx, gy = self._guide_polyline(x, y)
+        xs, ys, slave_idx = self._wrapped_slave_coordinates(x, y, gx, gy)
+        pair_slave_nodes(xs, ys, slave_idx, gx, gy, self.normal_sign, self.max_gap, self.max_penetration,
+                         self.seg, self.coef, self.nx, self.ny, self.tx, self.ty, self.gap, self.active)
+        self.area[:] = self.nodal_areas(x, y)
+        self._projection_weights(x, y, xs, ys, gx, gy)
+        self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.nx,
+                                         self.ny, self.gap, self.active, dt_pos, self.bilateral, self.max_sweeps,
+                                         self.rel_tol, self.lam_n)
+        if cell_yield is not None:
+            w = self.heat_weights(x, y)
+            yb = np.where(self.slave_cell_before >= 0, cell_yield[self.slave_cell_before], 0.0)
+            ya = np.where(self.slave_cell_after >= 0, cell_yield[self.slave_cell_after], 0.0)
+            wb = np.where(self.slave_cell_before >= 0, w, 0.0)
+            wb = np.where(self.slave_cell_after >= 0, wb, 1.0)
+            y_slave = wb * yb + (1.0 - wb) * ya
+            y_guide = np.where(self.seg >= 0, cell_yield[self.guide_cells[np.maximum(self.seg, 0)]], 0.0)
+        else:
+            y_slave = np.full(self.slave.size, np.inf)
+            y_guide = y_slave
+        self.sweeps_tangential = tangential_step(
+            vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.tx, self.ty, self.active, dt,
+            self.area, self.law, self.law_params, y_slave, y_guide, self.lam_n, self.max_sweeps, self.rel_tol,
+            self.lam_t, self.slip_free, self.slip)
+        impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.nx, self.ny,
+                     self.active, self.lam_n, self.work_n)
+        impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.tx, self.ty,
+                     self.active, self.lam_t, self.work_t)
+        if self.heat_share_slave is not None and cell_energy is not None:
+            deposit_friction_heat(self.work_t, self.active, self.seg, float(self.heat_share_slave),
+                                  self.slave_cell_before, self.slave_cell_after, self.heat_weights(x, y),
+                                  self.guide_cells, cell_mass, cell_energy)
+        step_work = float(self.work_t.sum())
+        self.total_friction_work += step_work
+        self.total_contact_loss += float(self.work_n.sum())
+        self.cum_work += self.work_t
+        self.cum_slip += self.slip * dt_pos
+        self._win_lam_n += self.lam_n
+        self._win_lam_t += self.lam_t
+        self._win_slip += self.slip * dt_pos
+        self._win_time += dt
+        return step_work
+
+    def maybe_record(self, t_end: float, x_new, y_new, force: bool = False) -> bool:
+        """Close the record window if ``t_end`` reached the next record time (or ``force``)."""
+        if self._win_time <= 0.0 or not (force or t_end >= self._next_record * (1 - 1e-12)):
+            return False
+        rec = self.record
+        denom = self.area * self._win_time
+        safe = np.where(denom > 0.0, denom, 1.0)
+        rec.t.append(t_end)
+        rec.x.append(x_new[self.slave].copy())
+        rec.y.append(y_new[self.slave].copy())
+        rec.sigma_n.append(np.where(denom > 0.0, self._win_lam_n / safe, 0.0))
+        rec.tau.append(np.where(denom > 0.0, self._win_lam_t / safe, 0.0))
+        rec.slip.append(self._win_slip / self._win_time)
+        rec.cum_slip.append(self.cum_slip.copy())
+        rec.work.append(self.cum_work.copy())
+        rec.active.append(self.active.copy())
+        self._win_lam_n[:] = 0.0
+        self._win_lam_t[:] = 0.0
+        self._win_slip[:] = 0.0
+        self._win_time = 0.0
+        while self._next_record <= t_end * (1 + 1e-12):
+            self._next_record += self.record_interval if math.isfinite(self.record_interval) else math.inf
+            if not math.isfinite(self._next_record):
+                break
+        return True

@@ -1,0 +1,339 @@
+"""The explicit Lagrangian cycle (thesis Fig. 3.7) and its interface hook.
+
+One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
+
+1. nodal forces F^n from sigma^n at x^n (+ hourglass on v^{n-1/2});
+2. node groups (ties, periodic sides) share their summed force;
+3. free velocities v* = v^{n-1/2} + dt^n F/m, boundary constraints applied;
+4. **interface hook**: every registered interface object's
+   ``apply(state, dt, t, cycle)`` is called in registration order, with
+   ``dt = state.dt_velocity`` (dt^n, the step of the impulses) and ``t = t^n``;
+   ``state.dt`` is the coming position step dt^{n+1/2}.  It corrects
+   ``state.vx, state.vy`` by impulses (a node of a group: change it by J/mass,
+   ``state.mass`` is the group mass), may add heat to cells' ``state.e`` (and then
+   adds the same amount, J per unit depth or per radian, to
+   ``state.energy.interface_heat``) and may report friction work in
+   ``state.energy.friction_work``.  The cycle measures the work of the
+   corrections (``state.energy.interface_work``), re-synchronises node groups
+   and re-applies the boundary constraints;
+5. positions x^{n+1} = x^n + dt^{n+1/2} v^{n+1/2};
+6. cells: density, strain rate, stress, viscosity, energy, EOS, temperature and
+   the next stable time step.
+
+Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and
+kinetic energy (K^{n-1/2} + K^{n+1/2})/2.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from typing import Callable, Protocol
+
+import numba
+import numpy as np
+
+from shockfriction.errors import SimulationError
+from shockfriction.hydro import kernels as K
+from shockfriction.hydro.setup import Problem
+
+
+class Interface(Protocol):
+    """What the cycle calls between the free velocities and the position update."""
+
+    def apply(self, state, dt: float, t: float, cycle: int) -> None: ...
+
+
+ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
+                  "friction_work", "error")
+
+
+def _node_corner_csr(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    flat = conn.ravel()
+    order = np.argsort(flat, kind="stable")
+    counts = np.bincount(flat, minlength=n_nodes)
+    ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    return ptr, order.astype(np.int64)
+
+
+class Simulation:
+    """A problem in time: state, numerics, interfaces and histories."""
+
+    def __init__(self, problem: Problem, interfaces=None, threads: int | None = None):
+        self.problem = problem
+        self.mesh = problem.mesh
+        self.state = problem.state
+        self.interfaces: list[Interface] = list(interfaces or [])
+        deck = problem.deck
+        self.t_end = deck.time.end
+        self.cfl = deck.time.cfl
+        self.dvmax = deck.time.max_volume_change
+        self.dt_growth = deck.time.dt_growth
+        self.dt_max = deck.time.dt_max or math.inf
+        self.max_cycles = deck.time.max_cycles
+        self.cq = deck.viscosity.quadratic
+        self.cl = deck.viscosity.linear
+        self.hg = deck.viscosity.hourglass
+        self.qedge = deck.viscosity.kind == "edge"
+        threads = deck.threads if threads is None else threads
+        self.threads = numba.config.NUMBA_NUM_THREADS if threads == 0 else min(threads, numba.config.NUMBA_NUM_THREADS)
+        self.parallel = self.threads > 1
+        s = self.state
+        nn, nc = s.n_nodes, s.n_cells
+        self._x_old = np.empty(nn)
+        self._y_old = np.empty(nn)
+        self._vx_old = np.empty(nn)
+        self._vy_old = np.empty(nn)
+        self._vx_free = np.empty(nn)
+        self._vy_free = np.empty(nn)
+        self._vx_pre = np.empty(nn)
+        self._vy_pre = np.empty(nn)
+        # velocity jumps of constraints and interfaces, this step and the previous one (energy budget)
+        self._jx_bc, self._jy_bc = np.zeros(nn), np.zeros(nn)
+        self._jx_bc_prev, self._jy_bc_prev = np.zeros(nn), np.zeros(nn)
+        self._jx_int, self._jy_int = np.zeros(nn), np.zeros(nn)
+        self._jx_int_prev, self._jy_int_prev = np.zeros(nn), np.zeros(nn)
+        self._int_active = False
+        self._finished = False
+        self._corner = np.zeros((nc, 8))
+        self._vcorner = np.zeros((nc, 8))
+        self._dtcell = np.empty(nc)
+        self._errcell = np.zeros(nc, dtype=np.int64)
+        if self.parallel:
+            numba.set_num_threads(self.threads)
+            self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
+        c = problem.constraints
+        self._cons = (c.node, c.nx, c.ny, c.value)
+        self._grp = (problem.groups.ptr, problem.groups.nodes)
+        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.vx, s.vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
+        if deck.time.dt_initial is not None:
+            dt0 = min(dt0, deck.time.dt_initial)
+        s.dt = min(dt0, self.dt_max, self.t_end)
+        self._dt_prev = 0.0  # leapfrog start: v^{-1/2} = v^0 and a half velocity step
+        self._ke_half = K.kinetic_energy(s.vx, s.vy, s.mass_own)
+        s.energy.initial = self._ke_half + K.internal_energy(s.e, s.e_el, s.cell_mass)
+        self.energy_rows: list[tuple] = []
+        self.probe_rows: list[tuple] = []
+        self.probe_columns = [f"{p.name}.{q}" for p in problem.probes for q in p.quantities]
+        self.probe_every = deck.output.probe_every
+        self.observers: list[Callable[["Simulation"], None]] = []
+        self.wall_time = 0.0
+
+    def reinitialize(self) -> None:
+        """After editing the initial state by hand (``state.e``, ``rho``, ``vx``, ...) at t = 0:
+        recompute pressure, temperature, moduli, sound speed, volumes and masses-consistent
+        density, the first time step and the initial energy."""
+        s = self.state
+        if s.cycle != 0:
+            raise RuntimeError("reinitialize() is for the initial state (cycle 0)")
+        K.initial_cell_state(s.mat, s.props, s.isentrope, s.rho, s.e, s.pressure, s.temperature, s.shear_modulus,
+                             s.yield_stress, s.sound_speed, s.eps_p)
+        deck = self.problem.deck
+        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.vx, s.vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
+        if deck.time.dt_initial is not None:
+            dt0 = min(dt0, deck.time.dt_initial)
+        s.dt = min(dt0, self.dt_max, self.t_end)
+        s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
+
+    # ------------------------------------------------------------------ hooks
+    def register_interface(self, obj: Interface) -> None:
+        """Add an interface (slide line, driver) called every cycle after the free velocities."""
+        self.interfaces.append(obj)
+
+    def _fail(self, cell: int, code: int) -> None:
+        s = self.state
+        name, i, j = self.mesh.cell_ij(cell)
+        raise SimulationError(
+            f"body {name!r}, cell ({i}, {j}) [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
+            f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
+
+    def _forces(self) -> None:
+        """Nodal forces F^n into state.fx, fy (viscous corner forces kept for their heat)."""
+        s = self.state
+        corner = K.corner_forces_parallel if self.parallel else K.corner_forces_serial
+        corner(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+               s.axisymmetric, self.hg, self._corner, self._vcorner, self.qedge, self.cq, self.cl)
+        if self.parallel:
+            K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
+        else:
+            K.scatter_forces(s.conn, self._corner, s.fx, s.fy)
+
+    # ------------------------------------------------------------------ one cycle
+    def step(self) -> None:
+        """Advance t^n -> t^{n+1} (steps 1-6 of the module docstring)."""
+        if self._finished:
+            raise RuntimeError("this simulation has finished (its velocities are at the final time)")
+        self._velocity_stage(final=False)
+        self._advance_stage()
+
+    def _velocity_stage(self, final: bool) -> None:
+        """Steps 1-4 and the histories at t^n.  ``final``: the row at the end time, with a virtual
+        next step as long as the last one (the velocities end half a step past t_end)."""
+        s = self.state
+        if final:
+            s.dt = self._dt_prev
+        dt = s.dt
+        dtv = 0.5 * (self._dt_prev + dt)
+        s.dt_velocity = dtv
+        ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
+        # 1-2 forces
+        self._forces()
+        if self._grp[0].shape[0] > 1:
+            K.sum_groups(s.fx, s.fy, *self._grp)
+        en = s.energy
+        q_before = en.interface_heat
+        # 3 free velocities and boundary constraints
+        self._vx_old[:] = s.vx
+        self._vy_old[:] = s.vy
+        K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv)
+        self._vx_pre[:] = s.vx
+        self._vy_pre[:] = s.vy
+        K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
+        # 4 interfaces
+        if self.interfaces:
+            self._vx_free[:] = s.vx
+            self._vy_free[:] = s.vy
+            for obj in self.interfaces:
+                obj.apply(s, dtv, s.t, s.cycle)
+            if self._grp[0].shape[0] > 1:
+                K.sync_groups(s.vx, s.vy, self._vx_free, self._vy_free, *self._grp)
+            self._jx_int[:] = s.vx - self._vx_free
+            self._jy_int[:] = s.vy - self._vy_free
+            self._vx_pre += self._jx_int  # constraint impulses = what the constraints changed
+            self._vy_pre += self._jy_int
+            K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
+            en.interface_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_int, self._jy_int,
+                                                self._jx_int_prev, self._jy_int_prev)
+        elif self._int_active:
+            self._jx_int[:] = 0.0
+            self._jy_int[:] = 0.0
+            en.interface_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_int, self._jy_int,
+                                                self._jx_int_prev, self._jy_int_prev)
+        self._int_active = bool(self.interfaces)
+        if self._cons[0].shape[0]:
+            self._jx_bc[:] = s.vx - self._vx_pre
+            self._jy_bc[:] = s.vy - self._vy_pre
+            en.boundary_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_bc, self._jy_bc,
+                                               self._jx_bc_prev, self._jy_bc_prev)
+        # heat of the hourglass / edge-viscosity forces over this velocity step
+        heat = K.viscous_heat_parallel if self.parallel else K.viscous_heat_serial
+        qv = heat(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv, s.cell_mass, s.e)
+        if final or s.cycle % self.probe_every == 0:
+            # heat put into cells during this step counts half at t^n (it is centred there)
+            q_int = 0.5 * (q_before + en.interface_heat)
+            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own),
+                         ie + 0.5 * qv + (q_int - q_before),
+                         (en.boundary_work, en.interface_work, q_int, en.friction_work))
+
+    def _advance_stage(self) -> None:
+        """Steps 5-6: positions, cells, next time step."""
+        s = self.state
+        dt = s.dt
+        # 5 positions
+        K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
+        # 6 cells
+        update = K.update_cells_parallel if self.parallel else K.update_cells_serial
+        update(s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+               s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+               s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
+               self.dvmax, self._dtcell, self._errcell, self.qedge)
+        dtn, bad, code = K.reduce_time_step(self._dtcell, self._errcell)
+        if bad >= 0:
+            self._fail(bad, code)
+        s.t += dt
+        s.cycle += 1
+        self._dt_prev = dt
+        dtn = min(dtn, self.dt_growth * dt, self.dt_max)
+        remaining = self.t_end - s.t
+        if dtn > remaining:
+            dtn = remaining
+        elif dtn > 0.5 * remaining:  # avoid a sliver of a last step
+            dtn = 0.5 * remaining
+        s.dt = dtn
+
+    # ------------------------------------------------------------------ histories
+    def _record(self, ke: float, ie: float, budget: tuple | None = None) -> None:
+        """One history row at t^n; ``budget`` = (boundary work, interface work, interface heat,
+        friction work) at t^n (default: the running totals)."""
+        s = self.state
+        f = s.geometry_factor
+        en = s.energy
+        wbc, wint, qint, fw = budget if budget is not None else (
+            en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
+        total = ke + ie
+        err = total - (en.initial + wbc + wint + qint)
+        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * err))
+        if self.problem.probes:
+            row = [s.t]
+            for p in self.problem.probes:
+                i = p.index
+                for qn in p.quantities:
+                    row.append(self._probe_value(qn, i))
+            self.probe_rows.append(tuple(row))
+        for obs in self.observers:
+            obs(self)
+
+    def _probe_value(self, qn: str, i: int) -> float:
+        s = self.state
+        if qn == "vx":
+            return 0.5 * (self._vx_old[i] + s.vx[i])
+        if qn == "vy":
+            return 0.5 * (self._vy_old[i] + s.vy[i])
+        if qn == "x":
+            return s.x[i]
+        if qn == "y":
+            return s.y[i]
+        ptot = s.pressure[i] + s.q[i]
+        szz = -(s.sxx[i] + s.syy[i])
+        table = {
+            "p": s.pressure[i], "q": s.q[i], "sxx": s.sxx[i], "syy": s.syy[i], "sxy": s.sxy[i], "szz": szz,
+            "sigma_xx": s.sxx[i] - ptot, "sigma_yy": s.syy[i] - ptot, "sigma_xy": s.sxy[i],
+            "sigma_zz": szz - ptot, "rho": s.rho[i], "e": s.e[i], "T": s.temperature[i], "eps_p": s.eps_p[i],
+            "Y": s.yield_stress[i], "G": s.shear_modulus[i],
+        }
+        return float(table[qn])
+
+    def record_final(self) -> None:
+        """The state at the end time as the last history row: the forces at t^N and the velocity
+        update of a virtual next step (interfaces and constraints included), so that the row is
+        centred at t^N like every other.  The simulation is then finished."""
+        if not self._finished:
+            self._velocity_stage(final=True)
+            self._finished = True
+
+    # ------------------------------------------------------------------ loop
+    def run(self, progress: Callable[[float], None] | None = None) -> None:
+        """Cycle to the end time (or max_cycles); ``progress(t)`` is called every 50 cycles."""
+        s = self.state
+        start = _time.perf_counter()
+        try:
+            while s.t < self.t_end * (1.0 - 1e-12) and s.cycle < self.max_cycles:
+                self.step()
+                if progress is not None and s.cycle % 50 == 0:
+                    progress(s.t)
+            self.record_final()
+        finally:
+            self.wall_time += _time.perf_counter() - start
+
+    # ------------------------------------------------------------------ diagnostics
+    def momentum(self) -> tuple[float, float]:
+        """Total momentum (x, y) per unit depth / per radian, from v^{n+1/2}."""
+        return K.momentum(self.state.vx, self.state.vy, self.state.mass_own)
+
+    def energy_history(self) -> dict[str, np.ndarray]:
+        arr = np.array(self.energy_rows, dtype=float).reshape(-1, len(ENERGY_COLUMNS))
+        return {k: arr[:, i] for i, k in enumerate(ENERGY_COLUMNS)}
+
+    def probe_history(self) -> dict[str, np.ndarray]:
+        cols = ["t_s"] + self.probe_columns
+        arr = np.array(self.probe_rows, dtype=float).reshape(-1, len(cols))
+        return {k: arr[:, i] for i, k in enumerate(cols)}
+
+    def relative_energy_error(self) -> float:
+        """max |error| over the run divided by the largest of |initial|, max kinetic, max internal."""
+        h = self.energy_history()
+        if h["t_s"].size == 0:
+            return 0.0
+        scale = max(abs(self.state.energy.initial) * self.state.geometry_factor, np.abs(h["kinetic"]).max(),
+                    np.abs(h["internal"]).max(), 1e-300)
+        return float(np.abs(h["error"]).max() / scale)
