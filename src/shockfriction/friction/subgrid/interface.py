@@ -55,7 +55,9 @@ thermoelastic model), ``flux_in`` (beta_T tau [v], W/m^2 entering the column), `
 tau |[V]^n| dt), ``heat_interface`` (sum of flux_in dt), ``plastic_work`` (sum of sqrt(3) tau
 int d_eps dz), ``heat_plastic`` (plastic heat deposited in the column, beta_Q times the plastic work,
 one step late), ``heat_stored`` (rho c int (theta - T0) dz).  Balances: friction_work =
-heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_plastic.  Per-node profiles:
+heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_plastic.
+``lag_temperature`` (K, ch. 8) is the largest local temperature rise that the lagged plastic heat of
+this step will add in the next one: the size of the lag the thesis asks to check a posteriori (8.47).  Per-node profiles:
 ``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a buffer that the next step
 replaces: copy it to keep it).
 """
@@ -118,7 +120,7 @@ class SubgridInterface:
         self._pending_plastic_heat = np.zeros((n, nn))  # J/m^3, deposited next step (lagged source)
         self._deps = np.zeros((n, nn))
         for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
-                     "friction_work", "heat_interface", "heat_plastic", "plastic_work"):
+                     "friction_work", "heat_interface", "heat_plastic", "plastic_work", "lag_temperature"):
             setattr(self, name, np.zeros(n))
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
@@ -221,6 +223,7 @@ class SubgridInterface:
             update_hardening(self.eps_p, self._deps, self._hard, self.scg)
             self.plastic_work += SQRT3 * tau * (self._deps @ self.columns.weights)
             np.multiply(self._deps, (self.beta_Q * SQRT3) * tau[:, None], out=self._pending_plastic_heat)
+            self.lag_temperature[:] = self._pending_plastic_heat.max(axis=1) / self.columns.rho_c
         return tau.copy(), v_half
 
     # ------------------------------------------------------------------ helpers
