@@ -39,9 +39,11 @@ def plot_subgrid_interface(interface_h5: str | Path, out_dir: str | Path) -> lis
         for ax, (key, label, cmap, lim) in zip(axes, panels):
             z = d[key]
             kw = {}
-            if cmap == "RdBu_r":
-                m = float(np.max(np.abs(z))) or 1.0
+            if cmap == "RdBu_r":  # symmetric, 99.5th percentile (a few corner nodes would wash out the map)
+                m = float(np.percentile(np.abs(z), 99.5)) or float(np.max(np.abs(z))) or 1.0
                 kw = dict(vmin=-m, vmax=m)
+            elif key != "theta_interface_K":
+                kw = dict(vmin=0.0, vmax=float(np.percentile(z, 99.5)) or float(np.max(z)) or 1.0)
             elif lim is not None:
                 kw = dict(vmin=float(np.min(z)), vmax=lim[1])
             mesh = ax.pcolormesh(nodes, t_us, z, shading="nearest", cmap=cmap, **kw)
