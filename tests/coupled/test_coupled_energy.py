@@ -34,6 +34,7 @@ def test_friction_work_equals_the_heat_within_one_percent(audited):
     w_hydro = line.total_friction_work
     parts = fm.energy_balance()
     heat = parts["heat_columns"] + parts["heat_other"] + parts["cold_work"] + parts["plastic_heat_pending"]
+    heat += parts["melt_energy"]
     rel = abs(heat - w_hydro) / w_hydro
     print(f"{name}: hydro friction work {w_hydro:.6e} J/m, columns {parts['heat_columns']:.6e} + other body "
           f"{parts['heat_other']:.6e} + cold work {parts['cold_work']:.3e} + pending {parts['plastic_heat_pending']:.3e}"
@@ -55,6 +56,7 @@ def test_total_energy_with_the_column_heat(audited):
     e = res.energy
     parts = line.friction_model.energy_balance()
     heat = parts["heat_columns"] + parts["heat_other"] + parts["cold_work"] + parts["plastic_heat_pending"]
+    heat += parts["melt_energy"]
     e0 = e["total"][0]
     # (the slide line's contact_loss, the work of the normal impulses, is not lost in the leapfrog
     # energy of energy.csv: the cycle's measured interface work is the friction work alone)

@@ -23,9 +23,11 @@ line's friction work): each step adds S_j^n times the per-area increments of nod
 * ``heat_other``: the other body's share (1 - beta_T) tau [v] dt (counted, not deposited);
 * ``cold_work``: (1 - beta_Q) of the plastic work (stored in the layer's defects);
 * ``plastic_heat_pending``: beta_Q times the last step's plastic work, deposited next step;
+* ``melt_energy``: lagged plastic heat that would have taken a column node past melting, clipped
+  off (the energy melting would absorb; thermoelastoplastic only, see ``_limit_plastic_heat``);
 * ``friction_work_columns``: tau |[V]^n| dt, the columns' view of the friction work.
 
-The columns' balance friction_work_columns = heat_columns + heat_other + cold_work + pending holds
+The columns' balance friction_work_columns = heat_columns + heat_other + cold_work + pending + melt holds
 to round-off; the hydrocode's friction work (impulse work, exact kinetic-energy loss) differs
 from the columns' only where the actual corrected slip differs from the columns' prediction
 (non-uniform stress along the line, nodes that stick in the Gauss-Seidel sweeps but not alone).
@@ -41,8 +43,10 @@ from shockfriction.coupled.kernels import capped_tangential_step, column_inputs
 from shockfriction.errors import DeckError, SimulationError
 from shockfriction.friction.subgrid.interface import SubgridInterface
 
+MELT_MARGIN = 1.0  # K: the lagged plastic heat never takes a column node above T_F - MELT_MARGIN
 IDLE_SLIP = 1e-6  # m/s: a free slip below this is contact round-off, the node's column stays idle
-ENERGY_KEYS = ("friction_work_columns", "heat_columns", "heat_other", "cold_work", "plastic_heat_pending")
+ENERGY_KEYS = ("friction_work_columns", "heat_columns", "heat_other", "cold_work", "plastic_heat_pending",
+               "melt_energy")
 
 
 class SubgridFriction:
@@ -96,6 +100,8 @@ class SubgridFriction:
                       line.active, line.lam_n, line.area, dt, self.bilateral, self._guide_load(mass.size),
                       IDLE_SLIP, self.sigma_n, self.v_free,
                       self.v_prev, self.m_slave, self.m_guide)
+        if self.model == "thermoelastoplastic":
+            self._limit_plastic_heat(line.area)
         before = [sg.friction_work.copy(), sg.heat_interface.copy(), sg.heat_plastic.copy(), sg.plastic_work.copy()]
         try:
             tau, _ = sg.step(self.sigma_n, self.v_free, self.v_prev, self.m_slave, self.m_guide, line.area, dt,
@@ -129,6 +135,25 @@ class SubgridFriction:
                                "theta_interface": sg.theta_interface.copy(), "area": S.copy(),
                                "lam_t": line.lam_t.copy(), "slip": line.slip.copy(), "active": line.active.copy()})
         return sweeps
+
+    def _limit_plastic_heat(self, area: np.ndarray) -> None:
+        """Clip the lagged plastic heat so that no column node exceeds T_F - MELT_MARGIN before the step.
+
+        The thermoelastoplastic columns deposit the plastic heat of step n in step n + 1 (eq. 8.46);
+        near melting that deposit alone can carry a node past T_F, where the model has no state
+        (friction and strength vanish at T_F; no latent heat).  By the maximum principle of the
+        backward-Euler solve, theta_ad <= max_i (theta_i + deposit_i/(rho c)), so clipping each
+        node's deposit to rho c (T_F - margin - theta_i) keeps the column below melting.  The energy
+        clipped off is booked as ``melt_energy`` (what melting would absorb), so the audit still closes.
+        """
+        sg = self.columns
+        pending = sg._pending_plastic_heat
+        room = sg.columns.rho_c * (sg.material.melting_temperature - MELT_MARGIN - sg.columns.theta)
+        over = pending > room
+        if over.any():
+            clipped = np.where(over, np.maximum(room, 0.0), pending)
+            self.melt_energy += float(area @ ((pending - clipped) @ sg.columns.weights))
+            pending[...] = clipped
 
     def _guide_load(self, n: int) -> np.ndarray:
         if getattr(self, "_load", None) is None or self._load.size != n:
