@@ -33,6 +33,22 @@ def _pt(r_mm: float, z_mm: float) -> list[str]:
     return [f"{r_mm:.6f} mm", f"{z_mm:.6f} mm"]
 
 
+def _grading(width: float, n: int, first: float, cap: float = 1.03) -> float:
+    """Geometric ratio r in [1, cap] whose first of ``n`` cells over ``width`` is ``first`` (1 if uniform is finer)."""
+    def first_cell(r):
+        return width / n if r == 1.0 else width * (r - 1.0) / (r ** n - 1.0)
+
+    if first_cell(1.0) <= first or n < 10:
+        return 1.0
+    if first_cell(cap) >= first:
+        return cap
+    lo, hi = 1.0, cap
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if first_cell(mid) > first else (lo, mid)
+    return round(0.5 * (lo + hi), 6)
+
+
 def friction_table(law: str = "coulomb", mu0: float = 0.3, f: float = 0.7, mu_inf: float = 0.01,
                    gamma: float = 0.05, cells: int = 500, profile_nodes=None, profile_interval: str | None = None):
     """The ``friction`` table of the cone/confinement slide line for ``law``."""
@@ -69,7 +85,7 @@ def cone_deck(law: str = "subgrid-thermoelastic", mu0: float = 0.3, f: float = 0
     B = m_barrel * g                                             # barrel length: the flyer starts inside it
     n_cone_r = max(2, round(Rb / (1.5 * h)))                     # cone radial cells (150 um at the base)
     n_conf_r = max(3, round((Ro - Rb) / (4.0 * h)))              # confinement radial cells, graded
-    ratio = 1.03 if n_conf_r > 10 else 1.0
+    ratio = _grading(Ro - Rb, n_conf_r, 2.0 * h)                  # first confinement cell ~ 2 h, ratio <= 1.03
     n_flyer_z = max(2, round(H / (2.0 * h)))
     scg = {"strength": "scg"}
     axis = {"left": "symmetry"}

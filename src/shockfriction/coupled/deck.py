@@ -13,7 +13,7 @@ A slide line's ``friction`` table takes ``law = "subgrid-thermoelastic"`` (thesi
                  heat_share = 0.677,        # optional: share beta_T entering that body (default e1/(e1+e2))
                  taylor_quinney = 0.9,      # beta_Q (thermoelastoplastic)
                  profile_nodes = [0, 100],  # slave nodes whose T(z), eps_p(z) go to columns.h5
-                 profile_interval = "100 ns" }
+                 profile_interval = "100 ns" } # default: 5 nodes, every 10th record
 
 These keys are the :class:`SubgridFrictionOptions` mix-in of the slide line's ``FrictionDeck``;
 they are refused for the other laws.

@@ -243,7 +243,8 @@ def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = Fal
             raise DeckError(f"{where}.friction.profile_nodes = {list(nodes)!r}: expected slave node positions in "
                             f"[-{n}, {n - 1}] ({n} slave nodes)")
         nodes = [k % n for k in nodes]
-    interval = fr.profile_interval if fr.profile_interval is not None else 0.0
+    # default: every 10th record of the slide line
+    interval = fr.profile_interval if fr.profile_interval is not None else 10.0 * line.record_interval
     return SubgridFriction(sl.name, n, fr.subgrid_model, material, other, mu0=float(fr.mu0), f=float(fr.f),
                            thickness=fr.thickness, cells=fr.cells, grading=fr.grading,
                            taylor_quinney=fr.taylor_quinney, T0=T0, bilateral=sl.contact == "bilateral",

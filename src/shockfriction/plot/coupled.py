@@ -74,8 +74,9 @@ def plot_columns(columns_h5: str | Path, out_dir: str | Path) -> list[Path]:
         t = d["t_s"]
         fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
         cmap = plt.get_cmap("viridis")
+        shown = np.unique(np.linspace(0, t.size - 1, min(t.size, 8)).round().astype(int))
         for k, node in enumerate(d["node"]):
-            for m in range(t.size):
+            for m in shown:
                 colour = cmap(m / max(t.size - 1, 1))
                 style = ["-", "--", ":", "-."][k % 4]
                 lab = f"t = {t[m] * 1e6:.2f} us" if k == 0 else None
@@ -85,9 +86,8 @@ def plot_columns(columns_h5: str | Path, out_dir: str | Path) -> list[Path]:
         axes[0].set_ylabel("temperature (K)")
         axes[1].set_xlabel("depth z (um)")
         axes[1].set_ylabel("equivalent plastic strain")
-        if t.size <= 12:
-            axes[0].legend(fontsize=7)
-        fig.suptitle(f"slide line {name}: column profiles under nodes {list(d['node'])} "
+        axes[0].legend(fontsize=7)
+        fig.suptitle(f"slide line {name}: column profiles under nodes {[int(k) for k in d['node']]} "
                      "(line style: node, colour: time)")
         path = out_dir / f"columns_{name}.png"
         fig.savefig(path, dpi=110)
