@@ -114,3 +114,25 @@ def test_both_models_run_without_nan(coupled_decks, tmp_path, model):
     else:
         assert np.all(d["slip_plastic_mps"] == 0.0)
     assert (tmp_path / "columns.h5").exists() and (tmp_path / "subgrid_interface.png").exists()
+
+
+@pytest.mark.parametrize("variant", ["guide_body", "bilateral"])
+def test_columns_on_the_guide_body_and_with_bilateral_contact(coupled_decks, tmp_path, variant):
+    from shockfriction.materials.library import get_material, heat_share
+
+    deck = coupled_decks["strip"](end="0.6 us", **({"body": "guide"} if variant == "guide_body" else {}))
+    if variant == "bilateral":
+        deck["slide_lines"][0]["contact"] = "bilateral"
+    res, line, fm = _run(deck, tmp_path)
+    sg = fm.columns
+    steel, ti = get_material("Steel4340"), get_material("Ti-6Al-4V")
+    if variant == "guide_body":   # the columns model the flyer (guide side): its material, its heat share
+        assert sg.material.name == "Steel4340" and sg.beta_T == pytest.approx(heat_share(steel, ti))
+    else:
+        assert sg.material.name == "Ti-6Al-4V" and sg.beta_T == pytest.approx(heat_share(ti, steel))
+    parts = fm.energy_balance()
+    heat = parts["heat_columns"] + parts["heat_other"]
+    rel = abs(heat - line.total_friction_work) / line.total_friction_work
+    print(f"{variant}: {sg.material.name} columns, beta_T {sg.beta_T:.3f}, interface up to "
+          f"{sg.theta_interface.max():.1f} K, audit {rel:.2e}")
+    assert rel < 0.01 and sg.theta_interface.max() > 400.0
