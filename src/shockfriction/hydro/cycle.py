@@ -245,9 +245,9 @@ class Simulation:
         self._dt_prev = dt
         dtn = min(dtn, self.dt_growth * dt, self.dt_max)
         remaining = self.t_end - s.t
-        if dtn > remaining:
+        if dtn >= remaining * (1.0 - 1e-9):
             dtn = remaining
-        elif dtn > 0.5 * remaining:  # avoid a sliver of a last step
+        elif remaining - dtn < 0.1 * dtn:  # avoid a sliver of a last step: two equal ones
             dtn = 0.5 * remaining
         s.dt = dtn
 
