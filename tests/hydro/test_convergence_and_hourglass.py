@@ -1,7 +1,6 @@
 """Second-order convergence on a smooth standing wave, and hourglass control."""
 
 import numpy as np
-import pytest
 
 from shockfriction.hydro.api import prepare, run_simulation
 
