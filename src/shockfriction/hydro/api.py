@@ -149,7 +149,7 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
             summary["total_wall_time_s"] = time.perf_counter() - started
             (out / "summary.json").write_text(json.dumps(summary, indent=2))
     summary = summarize(sim)
-    summary["completed"] = True
+    summary["completed"] = sim.state.t >= sim.t_end * (1 - 1e-12)
     return Result(sim.probe_history(), sim.energy_history(), sim.state, sim.mesh, summary, out, sim)
 
 
