@@ -103,6 +103,7 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
     from shockfriction.io.histories import CsvHistory
 
     out = Path(out_dir) if out_dir is not None else None
+    sim.out_dir = out
     writers = []
     fields = None
     if out is not None:

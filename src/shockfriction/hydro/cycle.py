@@ -63,7 +63,9 @@ class Simulation:
         self.problem = problem
         self.mesh = problem.mesh
         self.state = problem.state
-        self.interfaces: list[Interface] = list(interfaces or [])
+        self.interfaces: list[Interface] = []
+        self._after_step: list = []
+        self.out_dir = None
         deck = problem.deck
         self.t_end = deck.time.end
         self.cfl = deck.time.cfl
@@ -119,6 +121,8 @@ class Simulation:
         self._getters = [self._probe_getter(q, p.index) for p in problem.probes for q in p.quantities]
         self.observers: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
+        for obj in interfaces or []:
+            self.register_interface(obj)
 
     def reinitialize(self) -> None:
         """After editing the initial state by hand (``state.e``, ``rho``, ``vx``, ...) at t = 0:
@@ -138,8 +142,15 @@ class Simulation:
 
     # ------------------------------------------------------------------ hooks
     def register_interface(self, obj: Interface) -> None:
-        """Add an interface (slide line, driver) called every cycle after the free velocities."""
+        """Add an interface (slide line, driver) called every cycle after the free velocities.
+
+        Optional methods of the object: ``after_step(state, dt, t, cycle)`` is called at the end
+        of each cycle (positions and cells at t^{n+1} = t, dt the step just done), ``close()``
+        when the run ends (also on failure); ``simulation.out_dir`` is the output folder of the
+        run (None without one), for interface histories."""
         self.interfaces.append(obj)
+        if hasattr(obj, "after_step"):
+            self._after_step.append(obj)
 
     def _fail(self, cell: int, code: int) -> None:
         s = self.state
@@ -165,7 +176,10 @@ class Simulation:
         if self._finished:
             raise RuntimeError("this simulation has finished (its velocities are at the final time)")
         self._velocity_stage(final=False)
+        dt = self.state.dt
         self._advance_stage()
+        for obj in self._after_step:
+            obj.after_step(self.state, dt, self.state.t, self.state.cycle)
 
     def _velocity_stage(self, final: bool) -> None:
         """Steps 1-4 and the histories at t^n.  ``final``: the row at the end time, with a virtual
@@ -309,6 +323,9 @@ class Simulation:
             self.record_final()
         finally:
             self.wall_time += _time.perf_counter() - start
+            for obj in self.interfaces:
+                if hasattr(obj, "close"):
+                    obj.close()
 
     # ------------------------------------------------------------------ diagnostics
     def momentum(self) -> tuple[float, float]:
