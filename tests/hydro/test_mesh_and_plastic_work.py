@@ -126,3 +126,15 @@ def test_scg_elastic_modulus_choice(modulus):
     assert p["c.syy"][-1] == pytest.approx(expected[-1], rel=1e-5)
     if modulus != "constant":  # the pressure stiffening is visible
         assert g[-1] > 1.003 * al.G0
+
+
+def test_closed_form_axisymmetric_integrals_equal_gauss_quadrature():
+    from shockfriction.hydro.geometry import bvec_axi, bvec_axi_gauss
+
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        x = np.array([1.0, 2.0, 2.2, 0.9]) + 0.3 * rng.random(4)
+        y = np.array([0.0, 0.1, 1.0, 1.1]) + 0.3 * rng.random(4)
+        a = np.array(bvec_axi(*x, *y))
+        b = np.array(bvec_axi_gauss(*x, *y))
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-13 * np.abs(b).max())
