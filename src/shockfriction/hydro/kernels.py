@@ -2,19 +2,24 @@
 
 * :func:`corner_forces_serial` / :func:`corner_forces_parallel` then
   :func:`scatter_forces` / :func:`gather_forces`: nodal forces F^n from the cell
-  stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the viscous
-  Flanagan-Belytschko hourglass force on v^{n-1/2} (its dissipated power is put
-  into the cell's internal energy).
-* :func:`advance_velocities`: v* = v^{n-1/2} + dt F/m on node groups (ties,
-  periodic sides), then the boundary constraints.
-* :func:`apply_constraints`: v <- v - (v.n - value) n per constraint; returns the
-  work of the reactions.
+  stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the velocity-dependent
+  forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge viscosity),
+  kept apart for :func:`viscous_heat_serial` / ``_parallel``, which puts the kinetic
+  energy they remove over the step into the cells.
+* :func:`sum_groups` / :func:`sync_groups`: node groups (ties, periodic sides).
+* :func:`advance_velocities`: v* = v^{n-1/2} + dt F/m.
+* :func:`apply_constraints`: v <- v - (v.n - value) n per constraint.
+* :func:`impulse_work`: the kinetic energy that velocity jumps (constraints,
+  interfaces) put into the leapfrog kinetic energy.
 * :func:`move_nodes`: x^{n+1} = x^n + dt v^{n+1/2}.
 * :func:`update_cells_serial` / :func:`update_cells_parallel`: per cell, volume and
   density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
   artificial viscosity q^{n+1/2}, energy update with the EOS, temperature,
-  sound speed and the cell's stable time step.
+  sound speed and the cell's stable time step; :func:`reduce_time_step`.
 
+The serial and parallel variants are the same Python function compiled twice
+(``prange`` is ``range`` without ``parallel=True``); per-cell helpers take and return
+scalars only (no array arguments: no reference counting in the inner loops).
 Every kernel takes plain arrays and floats; sign convention: compression positive.
 """
 
