@@ -26,6 +26,7 @@ Every kernel takes plain arrays and floats; sign convention: compression positiv
 from __future__ import annotations
 
 import math
+import types
 
 import numpy as np
 from numba import njit, prange
@@ -40,6 +41,19 @@ from shockfriction.hydro.matprops import (
 )
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
+
+def _twin(func, suffix: str):
+    """A copy of ``func`` under another name, so that numba's on-disk cache keeps its serial and
+    parallel compilations apart (the cache index is keyed by name and signature, not by the
+    ``parallel`` flag: without this the two variants overwrite each other's cache entry)."""
+    name = func.__name__ + suffix
+    code = func.__code__.replace(co_name=name, co_qualname=name)
+    twin = types.FunctionType(code, func.__globals__, name, func.__defaults__, func.__closure__)
+    twin.__qualname__ = name
+    twin.__module__ = func.__module__
+    twin.__doc__ = func.__doc__
+    return twin
+
 
 ERR_NONE = 0
 ERR_INVERTED = 1
@@ -198,7 +212,7 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, h
 
 
 corner_forces_serial = njit(cache=True)(_corner_forces_impl)
-corner_forces_parallel = njit(cache=True, parallel=True)(_corner_forces_impl)
+corner_forces_parallel = njit(cache=True, parallel=True)(_twin(_corner_forces_impl, "_parallel"))
 
 
 def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
@@ -217,7 +231,7 @@ def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
 
 
 viscous_heat_serial = njit(cache=True)(_viscous_heat_impl)
-viscous_heat_parallel = njit(cache=True, parallel=True)(_viscous_heat_impl)
+viscous_heat_parallel = njit(cache=True, parallel=True)(_twin(_viscous_heat_impl, "_parallel"))
 
 
 @njit(cache=True)
@@ -593,7 +607,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
 
 
 update_cells_serial = njit(cache=True)(_update_cells_impl)
-update_cells_parallel = njit(cache=True, parallel=True)(_update_cells_impl)
+update_cells_parallel = njit(cache=True, parallel=True)(_twin(_update_cells_impl, "_parallel"))
 
 
 @njit(cache=True)
