@@ -2,7 +2,7 @@
 
 One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 
-1. nodal forces F^n from sigma^n at x^n (+ hourglass on v^{n-1/2});
+1. nodal forces F^n from sigma^n at x^n (+ hourglass and edge viscosity on v^{n-1/2});
 2. node groups (ties, periodic sides) share their summed force;
 3. free velocities v* = v^{n-1/2} + dt^n F/m, boundary constraints applied;
 4. **interface hook**: every registered interface object's
@@ -20,8 +20,8 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 6. cells: density, strain rate, stress, viscosity, energy, EOS, temperature and
    the next stable time step.
 
-Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and
-kinetic energy (K^{n-1/2} + K^{n+1/2})/2.
+Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
+leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/30-hydro.md, sec. 5).
 """
 
 from __future__ import annotations
@@ -63,7 +63,9 @@ class Simulation:
         self.problem = problem
         self.mesh = problem.mesh
         self.state = problem.state
-        self.interfaces: list[Interface] = list(interfaces or [])
+        self.interfaces: list[Interface] = []
+        self._after_step: list = []
+        self.out_dir = None
         deck = problem.deck
         self.t_end = deck.time.end
         self.cfl = deck.time.cfl
@@ -110,19 +112,21 @@ class Simulation:
             dt0 = min(dt0, deck.time.dt_initial)
         s.dt = min(dt0, self.dt_max, self.t_end)
         self._dt_prev = 0.0  # leapfrog start: v^{-1/2} = v^0 and a half velocity step
-        self._ke_half = K.kinetic_energy(s.vx, s.vy, s.mass_own)
-        s.energy.initial = self._ke_half + K.internal_energy(s.e, s.e_el, s.cell_mass)
+        s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
         self.energy_rows: list[tuple] = []
         self.probe_rows: list[tuple] = []
         self.probe_columns = [f"{p.name}.{q}" for p in problem.probes for q in p.quantities]
         self.probe_every = deck.output.probe_every
+        self._getters = [self._probe_getter(q, p.index) for p in problem.probes for q in p.quantities]
         self.observers: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
+        for obj in interfaces or []:
+            self.register_interface(obj)
 
     def reinitialize(self) -> None:
-        """After editing the initial state by hand (``state.e``, ``rho``, ``vx``, ...) at t = 0:
-        recompute pressure, temperature, moduli, sound speed, volumes and masses-consistent
-        density, the first time step and the initial energy."""
+        """After editing the initial state by hand at t = 0 (``state.e``, ``vx``, ``vy``, the
+        deviators ...): recompute pressure, temperature, moduli, flow stress and sound speed from
+        (rho, e), the first time step and the initial energy."""
         s = self.state
         if s.cycle != 0:
             raise RuntimeError("reinitialize() is for the initial state (cycle 0)")
@@ -137,8 +141,15 @@ class Simulation:
 
     # ------------------------------------------------------------------ hooks
     def register_interface(self, obj: Interface) -> None:
-        """Add an interface (slide line, driver) called every cycle after the free velocities."""
+        """Add an interface (slide line, driver) called every cycle after the free velocities.
+
+        Optional methods of the object: ``after_step(state, dt, t, cycle)`` is called at the end
+        of each cycle (positions and cells at t^{n+1} = t, dt the step just done), ``close()``
+        when the run ends (also on failure); ``simulation.out_dir`` is the output folder of the
+        run (None without one), for interface histories."""
         self.interfaces.append(obj)
+        if hasattr(obj, "after_step"):
+            self._after_step.append(obj)
 
     def _fail(self, cell: int, code: int) -> None:
         s = self.state
@@ -164,7 +175,10 @@ class Simulation:
         if self._finished:
             raise RuntimeError("this simulation has finished (its velocities are at the final time)")
         self._velocity_stage(final=False)
+        dt = self.state.dt
         self._advance_stage()
+        for obj in self._after_step:
+            obj.after_step(self.state, dt, self.state.t, self.state.cycle)
 
     def _velocity_stage(self, final: bool) -> None:
         """Steps 1-4 and the histories at t^n.  ``final``: the row at the end time, with a virtual
@@ -245,9 +259,9 @@ class Simulation:
         self._dt_prev = dt
         dtn = min(dtn, self.dt_growth * dt, self.dt_max)
         remaining = self.t_end - s.t
-        if dtn > remaining:
+        if dtn >= remaining * (1.0 - 1e-9):
             dtn = remaining
-        elif dtn > 0.5 * remaining:  # avoid a sliver of a last step
+        elif remaining - dtn < 0.1 * dtn:  # avoid a sliver of a last step: two equal ones
             dtn = 0.5 * remaining
         s.dt = dtn
 
@@ -263,35 +277,29 @@ class Simulation:
         total = ke + ie
         err = total - (en.initial + wbc + wint + qint)
         self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * err))
-        if self.problem.probes:
-            row = [s.t]
-            for p in self.problem.probes:
-                i = p.index
-                for qn in p.quantities:
-                    row.append(self._probe_value(qn, i))
-            self.probe_rows.append(tuple(row))
+        if self._getters:
+            self.probe_rows.append((s.t, *[float(g()) for g in self._getters]))
         for obs in self.observers:
             obs(self)
 
-    def _probe_value(self, qn: str, i: int) -> float:
+    def _probe_getter(self, qn: str, i: int) -> Callable[[], float]:
+        """A function returning probe quantity ``qn`` of node/cell ``i`` at t^n."""
         s = self.state
-        if qn == "vx":
-            return 0.5 * (self._vx_old[i] + s.vx[i])
-        if qn == "vy":
-            return 0.5 * (self._vy_old[i] + s.vy[i])
-        if qn == "x":
-            return s.x[i]
-        if qn == "y":
-            return s.y[i]
-        ptot = s.pressure[i] + s.q[i]
-        szz = -(s.sxx[i] + s.syy[i])
-        table = {
-            "p": s.pressure[i], "q": s.q[i], "sxx": s.sxx[i], "syy": s.syy[i], "sxy": s.sxy[i], "szz": szz,
-            "sigma_xx": s.sxx[i] - ptot, "sigma_yy": s.syy[i] - ptot, "sigma_xy": s.sxy[i],
-            "sigma_zz": szz - ptot, "rho": s.rho[i], "e": s.e[i], "T": s.temperature[i], "eps_p": s.eps_p[i],
-            "Y": s.yield_stress[i], "G": s.shear_modulus[i],
+        node = {"vx": lambda: 0.5 * (self._vx_old[i] + s.vx[i]), "vy": lambda: 0.5 * (self._vy_old[i] + s.vy[i]),
+                "x": lambda: s.x[i], "y": lambda: s.y[i]}
+        if qn in node:
+            return node[qn]
+        cell = {
+            "p": lambda: s.pressure[i], "q": lambda: s.q[i], "sxx": lambda: s.sxx[i], "syy": lambda: s.syy[i],
+            "sxy": lambda: s.sxy[i], "szz": lambda: -(s.sxx[i] + s.syy[i]),
+            "sigma_xx": lambda: s.sxx[i] - s.pressure[i] - s.q[i],
+            "sigma_yy": lambda: s.syy[i] - s.pressure[i] - s.q[i],
+            "sigma_xy": lambda: s.sxy[i],
+            "sigma_zz": lambda: -(s.sxx[i] + s.syy[i]) - s.pressure[i] - s.q[i],
+            "rho": lambda: s.rho[i], "e": lambda: s.e[i], "T": lambda: s.temperature[i], "eps_p": lambda: s.eps_p[i],
+            "Y": lambda: s.yield_stress[i], "G": lambda: s.shear_modulus[i],
         }
-        return float(table[qn])
+        return cell[qn]
 
     def record_final(self) -> None:
         """The state at the end time as the last history row: the forces at t^N and the velocity
@@ -314,6 +322,9 @@ class Simulation:
             self.record_final()
         finally:
             self.wall_time += _time.perf_counter() - start
+            for obj in self.interfaces:
+                if hasattr(obj, "close"):
+                    obj.close()
 
     # ------------------------------------------------------------------ diagnostics
     def momentum(self) -> tuple[float, float]:

@@ -231,7 +231,7 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     # ---- node groups: periodic sides and ties
     pairs: list[tuple[int, int]] = []
     for k, body in enumerate(deck.bodies):
-        bnd, blk = body.boundary, blocks[k]
+        bnd = body.boundary
         if bnd.left == "periodic":
             left = mesh.side_nodes(k, "left")[::-1]
             right = mesh.side_nodes(k, "right")
@@ -246,7 +246,6 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
             if np.abs(shift - shift[0]).max() > 1e-9 * np.hypot(*shift[0]):
                 raise DeckError(f"{source}: body {body.name!r}: periodic bottom/top sides must be translates")
             pairs += list(zip(bottom.tolist(), top.tolist()))
-        del blk
     for tie in deck.ties:
         pairs += _match_tie(mesh, tie.sides[0], tie.sides[1], source)
     groups = _union_find_groups(mesh.n_nodes, pairs)
@@ -276,6 +275,9 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
                 if kind.vy is not None:
                     rows[1] += [(n, 0.0, 1.0, kind.vy) for n in nodes]
                     vy[nodes] = kind.vy
+    if axi:  # nodes on the axis r = 0 always have v_r = 0 (whatever the deck says of that side)
+        scale = max(np.abs(mesh.x).max(), np.abs(mesh.y).max(), 1e-300)
+        rows[0] += [(int(n), 1.0, 0.0, 0.0) for n in np.flatnonzero(np.abs(mesh.x) <= 1e-12 * scale)]
     member_of = {}
     for g in range(len(groups.ptr) - 1):
         members = groups.nodes[groups.ptr[g]:groups.ptr[g + 1]].tolist()
