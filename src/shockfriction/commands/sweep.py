@@ -1,0 +1,38 @@
+"""``shockfriction sweep SWEEP.toml --out DIR``: run a parameter sweep (resumable)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("sweep")
+    def sweep(
+        sweep_file: Path = typer.Argument(..., help="sweep file (TOML): base deck, parameters, keep"),
+        out: Path = typer.Option(..., "--out", help="output folder: sweep.csv, records.h5, runs/ (the journal)"),
+        scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786"),
+        workers: Optional[int] = typer.Option(None, "--workers", help="local pool size (default: all cores); "
+                                              "with --scheduler, wait for this many Dask workers"),
+        retry_failed: bool = typer.Option(False, "--retry-failed", help="run again the runs recorded as failed"),
+        quiet: bool = typer.Option(False, "--quiet", help="no progress bar"),
+    ) -> None:
+        """Run every deck of a sweep; rerunning the same command resumes an interrupted sweep."""
+        from rich.console import Console
+
+        from shockfriction.sweep.engine import run_sweep
+
+        console = Console(stderr=True)
+        res = run_sweep(sweep_file, out, scheduler, workers, retry_failed, progress=not quiet)
+        console.print(f"{res.total} runs: {res.ok} ok, {res.failed} failed, {res.pending} pending "
+                      f"({res.computed} computed now, {res.reused} already finished)")
+        for line in res.lost:
+            console.print(f"[yellow]lost with its worker, left pending[/]: {line}", highlight=False)
+        console.print(f"table: {res.table}\nrecords: {res.records}")
+        if res.interrupted:
+            console.print("[yellow]interrupted[/]: rerun the same command to resume")
+            raise typer.Exit(130)
+        if res.pending:
+            raise typer.Exit(1)
