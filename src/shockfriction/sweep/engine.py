@@ -49,7 +49,10 @@ def plan(sweep_file: str | Path) -> tuple[SweepSpec, str, list[RunPoint]]:
     sweep_file = Path(sweep_file)
     spec, here = load_sweep(sweep_file)
     base = read_toml(here / spec.base) if spec.base else {}
-    kind = spec.effective_kind or detect_kind(base, f"{sweep_file}: base = {spec.base!r}")
+    kind = spec.effective_kind
+    if kind is None:
+        build_runs(spec, base, None, str(sweep_file))  # report a bad path before an unknown kind
+        kind = detect_kind(base, f"{sweep_file}: base = {spec.base!r}")
     runs = build_runs(spec, base, kind, str(sweep_file))
     checked: set[str] = set()
     for run in runs:

@@ -77,13 +77,13 @@ class Parameter(DeckModel):
         lo, unit = split_value(r[0])
         hi = in_unit(r[1], unit)
         if not hi > lo:
-            raise ValueError(f"a range [low, high] with high > low in the same dimension, got {list(r)}")
+            raise ValueError(f"a range (low, high) with high > low, both in one dimension, got {list(r)}")
         return r
 
     @model_validator(mode="after")
     def _one_source(self):
         if (self.values is None) == (self.range is None):
-            raise ValueError("either 'values' (a list) or 'range' ([low, high]), exactly one of them")
+            raise ValueError("either values (a list) or range (low and high), exactly one of them")
         if self.values is not None and self.n is not None:
             raise ValueError("'n' goes with 'range', not with 'values'")
         if self.scale == "log" and self.range is not None and split_value(self.range[0])[0] <= 0.0:
@@ -181,7 +181,7 @@ class SweepSpec(DeckModel):
             fail(f"parameter: {dup} repeated: expected each path (or name) once")
         for i, p in enumerate(self.parameter):
             if self.sample.method == "lhs" and p.range is None:
-                fail(f"parameter[{i}] ({p.column}): expected a range = [low, high] with sample.method = 'lhs'")
+                fail(f"parameter[{i}] ({p.column}): expected a range (low and high values) with sample.method = 'lhs'")
             if self.sample.method == "lhs" and p.n is not None:
                 fail(f"parameter[{i}].n = {p.n}: expected no per-parameter n with sample.method = 'lhs' (give sample.n)")
             if self.sample.method == "grid" and p.range is not None and p.n is None:
