@@ -31,3 +31,10 @@ def ramp(deck: dict, workdir: Path) -> dict:
     v = np.where(t > t0, a * (1.0 - np.exp(-(t - t0) / tau)), 0.0)
     (workdir / "scratch.txt").write_text("a run writes here")
     return {"records": {"free_surface": {"time": t, "velocity": v}}, "summary": {"a_times_tau": a * tau}}
+
+
+def line(deck: dict, workdir: Path) -> dict:
+    """y = a + b t on t in [0, 1] s (101 samples); ``c`` is read and ignored (an unidentifiable parameter)."""
+    t = np.linspace(0.0, 1.0, 101)
+    float(deck.get("c", 0.0))
+    return {"records": {"r": {"time": t, "value": float(deck["a"]) + float(deck["b"]) * t}}}

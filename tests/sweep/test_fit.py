@@ -1,0 +1,167 @@
+"""Least-squares calibration: recovery of known parameters, the Gauss-Newton covariance, bad fit files."""
+
+from __future__ import annotations
+
+import json
+import os
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from shockfriction.cli import main
+from shockfriction.sweep.fit import covariance, fit, write_outputs
+from shockfriction.sweep.runners import run_deck
+
+HERE = Path(__file__).resolve().parent
+SRC = HERE.parents[1] / "src"
+
+RAMP_FIT = """
+kind = "python"
+model = "sweep_test_models:ramp"
+[set]
+n = 301
+t0 = "0 s"
+[measured]
+file = "measured.csv"
+time_unit = "us"
+value_unit = "m/s"
+[computed]
+record = "free_surface"
+[[parameter]]
+path = "a"
+bounds = [1.0, 3.0]
+initial = 1.5
+[[parameter]]
+path = "tau"
+bounds = ["0.3 us", "2 us"]
+initial = "1 us"
+[time_shift]
+bounds = ["-300 ns", "300 ns"]
+"""
+
+
+@pytest.fixture
+def models_importable(monkeypatch):
+    monkeypatch.syspath_prepend(str(HERE))
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(HERE), str(SRC), os.environ.get("PYTHONPATH", "")]))
+
+
+def synthetic(tmp_path: Path, truth: dict, noise: float, seed: int = 1) -> None:
+    """A measured record made by running the model itself, plus Gaussian noise (time in us)."""
+    rec = run_deck("python", {**truth, "n": 401}, tmp_path, "sweep_test_models:ramp").records["free_surface"]
+    y = rec["velocity"] + np.random.default_rng(seed).normal(0.0, noise, rec["velocity"].size)
+    np.savetxt(tmp_path / "measured.csv", np.c_[rec["time"] * 1e6, y], delimiter=",",
+               header="time,velocity", comments="")
+
+
+def test_fit_recovers_known_parameters_and_time_shift_from_a_noisy_synthetic_record(tmp_path, models_importable):
+    synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us", "t0": "150 ns"}, noise=0.02)
+    (tmp_path / "fit.toml").write_text(RAMP_FIT)
+    res = fit(tmp_path / "fit.toml", workers=2)
+    truth = {"a": 2.0, "tau": 0.8, "time_shift": 150e-9}
+    assert res.success
+    for name, value, sigma in zip(res.names, res.values, res.sigma):
+        err = abs(value - truth[name])
+        print(f"{name}: {value:.6g} +- {sigma:.2g} (true {truth[name]:.6g}, {err / sigma:.2f} sigma)")
+        assert err <= 3.0 * sigma, f"{name} off by more than 3 sigma"
+        assert err <= 0.01 * abs(truth[name]), f"{name} off by more than 1 %"
+    assert res.rms == pytest.approx(0.02, rel=0.15), "the residual is the noise level"
+    paths = write_outputs(res, tmp_path / "out")
+    report = json.loads(paths["report"].read_text())
+    assert report["parameters"]["tau"]["unit"] == "us" and report["residual"]["dof"] == 401 - 3
+    assert paths["plot"].stat().st_size > 10_000
+
+
+def test_covariance_of_a_straight_line_is_the_ordinary_least_squares_one():
+    # y = a + b t: Cov = s^2 (X^T X)^-1 exactly, with X = [1, t]
+    t = np.linspace(0.0, 1.0, 11)
+    X = np.c_[np.ones_like(t), t]
+    r = np.random.default_rng(0).normal(0.0, 0.1, t.size)
+    cov, ident, dof = covariance(X, r)
+    exact = (r @ r) / (t.size - 2) * np.linalg.inv(X.T @ X)
+    np.testing.assert_allclose(cov, exact, rtol=1e-12)
+    assert ident == [True, True] and dof == 9
+
+
+def test_reported_sigma_matches_the_scatter_of_repeated_fits(tmp_path, monkeypatch):
+    """Monte Carlo: 40 noise draws; the spread of the fitted a, b equals the reported sigma (within 25 %)."""
+    monkeypatch.syspath_prepend(str(HERE))
+    (tmp_path / "fit.toml").write_text("""
+kind = "python"
+model = "sweep_test_models:line"
+[measured]
+file = "m.csv"
+value = "value"
+[computed]
+record = "r"
+value = "value"
+[[parameter]]
+path = "a"
+bounds = [-5.0, 5.0]
+[[parameter]]
+path = "b"
+bounds = [-5.0, 5.0]
+""")
+    t = np.linspace(0.0, 1.0, 101)
+    rng = np.random.default_rng(3)
+    est, sig = [], []
+    with ThreadPoolExecutor(2) as ex:
+        for _ in range(40):
+            y = 0.5 + 2.0 * t + rng.normal(0.0, 0.1, t.size)
+            np.savetxt(tmp_path / "m.csv", np.c_[t, y], delimiter=",", header="time,value", comments="")
+            res = fit(tmp_path / "fit.toml", executor=ex)
+            est.append(res.values)
+            sig.append(res.sigma)
+    spread, reported = np.std(est, axis=0, ddof=1), np.mean(sig, axis=0)
+    print("scatter", spread, "reported", reported)
+    np.testing.assert_allclose(spread, reported, rtol=0.25)
+    np.testing.assert_allclose(np.mean(est, axis=0), [0.5, 2.0], atol=3 * reported.max() / np.sqrt(40) * 2)
+
+
+def test_a_parameter_the_record_does_not_determine_is_flagged(tmp_path, monkeypatch):
+    monkeypatch.syspath_prepend(str(HERE))
+    t = np.linspace(0.0, 1.0, 101)
+    np.savetxt(tmp_path / "m.csv", np.c_[t, 1.0 + t], delimiter=",", header="time,value", comments="")
+    (tmp_path / "fit.toml").write_text("""
+kind = "python"
+model = "sweep_test_models:line"
+[set]
+b = 1.0
+[measured]
+file = "m.csv"
+value = "value"
+[computed]
+record = "r"
+value = "value"
+[[parameter]]
+path = "a"
+bounds = [0.0, 2.0]
+[[parameter]]
+path = "c"
+bounds = [0.0, 1.0]
+""")
+    with ThreadPoolExecutor(1) as ex:
+        res = fit(tmp_path / "fit.toml", executor=ex)
+    assert res.identifiable == [True, False]
+    assert res.values[0] == pytest.approx(1.0, abs=1e-9) and np.isinf(res.sigma[1])
+
+
+@pytest.mark.parametrize("edit, fragments", [
+    (("bounds = [1.0, 3.0]", "bounds = [3.0, 1.0]"), ["parameter[0]", "expected bounds (low, high) with high > low"]),
+    (("initial = 1.5", "initial = 4.0"), ["parameter[0]", "expected an initial value inside the bounds"]),
+    (('bounds = ["-300 ns", "300 ns"]', 'bounds = [-3, 3]'), ["time_shift", "expected times with their unit"]),
+    (('file = "measured.csv"', 'file = "nothere.csv"'), ["measured.file = 'nothere.csv'", "expected a file"]),
+    (('time_unit = "us"', 'time_unit = "parsec/s"'), ["measured", "time_unit"]),
+    (('record = "free_surface"', 'record = "rear"'), ["computed.record = 'rear'", "expected a record the run produces"]),
+])
+def test_bad_fit_files_exit_2_with_field_and_expectation(tmp_path, capsys, models_importable, edit, fragments):
+    synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us"}, noise=0.0)
+    (tmp_path / "fit.toml").write_text(RAMP_FIT.replace(*edit))
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(tmp_path / "fit.toml"), "--workers", "1"])
+    assert exc.value.code == 2
+    err = " ".join(capsys.readouterr().err.split())
+    for frag in fragments:
+        assert frag in err
