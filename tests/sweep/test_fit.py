@@ -165,3 +165,46 @@ def test_bad_fit_files_exit_2_with_field_and_expectation(tmp_path, capsys, model
     err = " ".join(capsys.readouterr().err.split())
     for frag in fragments:
         assert frag in err
+
+
+def test_fit_through_a_dask_cluster_equals_the_local_fit(tmp_path, monkeypatch):
+    from dask.distributed import LocalCluster
+
+    monkeypatch.syspath_prepend(str(HERE))
+    t = np.linspace(0.0, 1.0, 101)
+    y = 0.5 + 2.0 * t + np.random.default_rng(5).normal(0.0, 0.1, t.size)
+    np.savetxt(tmp_path / "m.csv", np.c_[t, y], delimiter=",", header="time,value", comments="")
+    (tmp_path / "fit.toml").write_text("""
+kind = "python"
+model = "sweep_test_models:line"
+[measured]
+file = "m.csv"
+value = "value"
+[computed]
+record = "r"
+value = "value"
+[[parameter]]
+path = "a"
+bounds = [-5.0, 5.0]
+[[parameter]]
+path = "b"
+bounds = [-5.0, 5.0]
+""")
+    with ThreadPoolExecutor(2) as ex:
+        local = fit(tmp_path / "fit.toml", executor=ex)
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+        remote = fit(tmp_path / "fit.toml", scheduler=cluster.scheduler_address)
+    np.testing.assert_array_equal(local.values, remote.values)
+    np.testing.assert_array_equal(local.sigma, remote.sigma)
+    # and the straight line is the ordinary least-squares one
+    X = np.c_[np.ones_like(t), t]
+    np.testing.assert_allclose(local.values, np.linalg.lstsq(X, y, rcond=None)[0], rtol=1e-6)
+
+
+def test_an_unreachable_scheduler_is_a_clear_error():
+    from shockfriction.errors import DeckError
+    from shockfriction.sweep.executors import open_executor
+
+    with pytest.raises(DeckError, match="--scheduler = 'tcp://127.0.0.1:9': expected the address of a running Dask"):
+        with open_executor("tcp://127.0.0.1:9", connect_timeout=1.0):
+            pass

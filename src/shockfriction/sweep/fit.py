@@ -36,7 +36,7 @@ from shockfriction.sweep.design import run_key
 from shockfriction.sweep.executors import open_executor
 from shockfriction.sweep.fitspec import FitSpec, load_fit
 from shockfriction.sweep.measured import read_measured
-from shockfriction.sweep.paths import set_paths
+from shockfriction.sweep.paths import get_path, set_paths
 from shockfriction.sweep.quantities import in_unit, join_value, split_value
 from shockfriction.sweep.runners import check_deck, detect_kind
 from shockfriction.sweep.worker import execute
@@ -123,13 +123,13 @@ class FitProblem:
         """The computed (t, y) at each deck-parameter vector; new runs go to the executor together."""
         decks = [self.deck_for(x) for x in xs]
         keys = [run_key(self.kind, self.spec.model, d, self.keep) for d in decks]
-        todo = {}
+        todo: dict[str, tuple[dict, object]] = {}
         for k, d in zip(keys, decks):
             if k not in self.cache and k not in todo:
-                todo[k] = self.ex.submit(execute, {"key": k, "kind": self.kind, "model": self.spec.model,
-                                                   "deck": d, "keep": self.keep})
-        wait(list(todo.values()))
-        for (k, fut), d in zip(todo.items(), [decks[keys.index(k)] for k in todo]):
+                task = {"key": k, "kind": self.kind, "model": self.spec.model, "deck": d, "keep": self.keep}
+                todo[k] = (d, self.ex.submit(execute, task))
+        wait([fut for _, fut in todo.values()])
+        for k, (d, fut) in todo.items():
             res = fut.result()
             self.runs += 1
             if res["status"] != "ok":
@@ -146,7 +146,6 @@ class FitProblem:
         return [self.cache[k] for k in keys]
 
     def _describe(self, deck: dict) -> str:
-        from shockfriction.sweep.paths import get_path
         return ", ".join(f"{p.column} = {get_path(deck, p.path, self.source)!r}" for p in self.params)
 
     # --- residuals and Jacobian ---------------------------------------------------
