@@ -1,0 +1,133 @@
+"""Sub-grid interface throughput: interface node-steps per second (one column per node).
+
+    PYTHONPATH=src python benchmarks/subgrid.py [--columns 1000] [--cells 500] [--repeats 3]
+
+Compares the batched numba path (SubgridInterface.step: one factored Thomas sweep per column
+per step, Brent in numba) with a plain baseline: one scipy.linalg.solve_banded per column per
+step and scipy.optimize.brentq on the same residual in Python (numpy for the plastic layer).
+Loading: the thesis's Ball case (Al 5083-H111, 10 GPa, 150-250 m/s spread over the columns,
+f = 0.3, dt = 1 ns), after 20 warm-up steps.  Prints the median of the repeats.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+import numpy as np
+from scipy.linalg import solve_banded
+from scipy.optimize import brentq
+
+from shockfriction.friction.subgrid.column import heat_matrix
+from shockfriction.friction.subgrid.interface import SubgridInterface
+from shockfriction.materials.library import get_material, heat_share
+from shockfriction.materials.strength import shear_ratio
+
+AL, ST = get_material("Al5083-H111"), get_material("AISI321")
+SIGMA, DT, F = 10e9, 1e-9, 0.3
+
+
+def fast(model, ncol, cells, steps):
+    sg = SubgridInterface(ncol, AL, ST, n_cells=cells, model=model, mu0=0.3, f=F)
+    v = np.linspace(150.0, 250.0, ncol)
+    for _ in range(20):
+        sg.step(SIGMA, v, v, np.inf, np.inf, 1.0, DT)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        sg.step(SIGMA, v, v, np.inf, np.inf, 1.0, DT)
+    return ncol * steps / (time.perf_counter() - t0)
+
+
+class Baseline:
+    """The same equations, column by column in Python with scipy."""
+
+    def __init__(self, model, ncol, cells):
+        self.model = model
+        m = AL
+        self.z = np.linspace(0.0, 20e-6, cells + 1)
+        dz = np.diff(self.z)
+        self.w = np.zeros(cells + 1)
+        self.w[:-1] += dz / 2
+        self.w[1:] += dz / 2
+        self.rho_c = m.rho0 * m.heat_capacity
+        a, b, c = heat_matrix(self.z, m.conductivity / self.rho_c, DT)
+        self.ab = np.zeros((3, cells + 1))
+        self.ab[0, 1:] = c[:-1]
+        self.ab[1] = b
+        self.ab[2, :-1] = a[1:]
+        e0 = np.zeros(cells + 1)
+        e0[0] = DT / (self.rho_c * self.w[0])
+        self.unit = solve_banded((1, 1), self.ab, e0)
+        self.theta = np.full((ncol, cells + 1), 300.0)
+        self.eps = np.zeros_like(self.theta)
+        self.pending = np.zeros_like(self.theta)
+        self.beta = heat_share(AL, ST)
+        self.v = np.linspace(150.0, 250.0, ncol)
+
+    def tau(self, T):
+        m = AL
+        return F * m.Ymax / math.sqrt(3) * float(shear_ratio(SIGMA, T, m.scg_g, m.scg_h, m.scg_xi, m.melting_temperature))
+
+    def deps(self, tau, T_ad, q, eps):
+        m = AL
+        r = shear_ratio(SIGMA, T_ad + q * self.unit, m.scg_g, m.scg_h, m.scg_xi, m.melting_temperature)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = math.sqrt(3) * tau / (m.Y0 * r)
+        target = np.where(x > 1.0, (np.maximum(x, 1.0) ** (1 / m.scg_n) - 1) / m.scg_beta, 0.0)
+        return np.maximum(target - eps, 0.0)
+
+    def step(self):
+        TF, a0 = AL.melting_temperature, self.unit[0]
+        for j in range(self.theta.shape[0]):
+            T_ad = solve_banded((1, 1), self.ab, self.theta[j] + self.pending[j] / self.rho_c)
+            v = self.v[j]
+            if self.model == "thermoelastic":
+                def R(T):
+                    return T - T_ad[0] - a0 * self.beta * self.tau(T) * v
+            else:
+                def R(T):
+                    t = self.tau(T)
+                    d = self.deps(t, T_ad, (T - T_ad[0]) / a0, self.eps[j])
+                    vl = max(v - math.sqrt(3) * (self.w @ d) / DT, 0.0)
+                    return T - T_ad[0] - a0 * self.beta * t * vl
+            T = brentq(R, T_ad[0], TF, xtol=1e-9)
+            t = self.tau(T)
+            q = (T - T_ad[0]) / a0
+            if self.model == "thermoelastoplastic":
+                d = self.deps(t, T_ad, q, self.eps[j])
+                self.eps[j] += d
+                self.pending[j] = 0.9 * math.sqrt(3) * t * d
+            self.theta[j] = T_ad + q * self.unit
+
+
+def slow(model, ncol, cells, steps):
+    b = Baseline(model, ncol, cells)
+    b.step()
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        b.step()
+    return ncol * steps / (time.perf_counter() - t0)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--columns", type=int, default=1000)
+    ap.add_argument("--cells", type=int, default=500)
+    ap.add_argument("--steps", type=int, default=50)
+    ap.add_argument("--baseline-steps", type=int, default=2)
+    ap.add_argument("--repeats", type=int, default=3)
+    args = ap.parse_args()
+    fast("thermoelastic", 2, 10, 1)  # compile
+    fast("thermoelastoplastic", 2, 10, 1)
+    print(f"{args.columns} columns x {args.cells} cells, dt = 1 ns, median of {args.repeats} repeats")
+    print(f"{'model':22s} {'numba node-steps/s':>20s} {'baseline node-steps/s':>22s} {'ratio':>8s}")
+    for model in ("thermoelastic", "thermoelastoplastic"):
+        f = statistics.median(fast(model, args.columns, args.cells, args.steps) for _ in range(args.repeats))
+        s = statistics.median(slow(model, args.columns, args.cells, args.baseline_steps) for _ in range(args.repeats))
+        print(f"{model:22s} {f:20.4g} {s:22.4g} {f / s:8.1f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,49 @@
+"""``shockfriction subgrid DECK.toml [--out DIR]``: sub-grid interface columns under imposed loading."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("subgrid")
+    def subgrid(
+        deck: Path = typer.Argument(..., help="TOML deck (see examples/subgrid/)"),
+        out: Optional[Path] = typer.Option(None, "--out", help="output folder (default: out/<deck stem>)"),
+        plots: bool = typer.Option(True, "--plots/--no-plots", help="write the PNG figures"),
+    ) -> None:
+        """Run the thesis's sub-grid interface model (ch. 7 thermoelastic or ch. 8 thermoelastoplastic)
+        under imposed slip velocity and normal stress, or a heat flux alone.
+
+        Writes history.csv (t_s, theta_interface_K, tau_Pa, slip_macro_mps, slip_local_mps,
+        flux_Wm2 = flux entering the column, iterations), profiles.csv (t_s, z_m, theta_K, eps_p)
+        and interface.png / profiles.png.
+        """
+        from rich.console import Console
+
+        from shockfriction.deck.base import load_deck
+        from shockfriction.deck.subgrid import SubgridDeck
+        from shockfriction.friction.subgrid.driver import run_subgrid
+        from shockfriction.plot.subgrid import plot_interface, plot_profiles
+
+        model = load_deck(deck, SubgridDeck)
+        out_dir = out if out is not None else Path("out") / deck.stem
+        res = run_subgrid(model, out_dir, source=str(deck))
+        files = list(res.files)
+        if plots:
+            title = model.title or deck.stem
+            files.append(plot_interface(res.t, res.theta_interface, res.tau, res.names, res.melting_temperature,
+                                        out_dir / "interface.png", title))
+            files.append(plot_profiles(res.z, res.profile_times, res.profiles, res.eps_profiles,
+                                       out_dir / "profiles.png", title=title))
+        con = Console()
+        k = res.theta_interface.shape[1]
+        for j, name in enumerate(res.names):
+            tau = res.tau[-1, j]
+            tau_txt = f", tau = {tau / 1e6:.4g} MPa" if tau == tau else ""
+            con.print(f"{name}: t = {res.t[-1] * 1e6:.4g} us, interface {res.theta_interface[-1, j]:.6g} K"
+                      f"{tau_txt}, max iterations {int(res.iterations[:, j].max())}", highlight=False)
+        con.print(f"{res.t.size} steps x {k} column(s); wrote " + ", ".join(str(f) for f in files), highlight=False)

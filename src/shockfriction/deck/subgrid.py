@@ -1,0 +1,188 @@
+"""Deck of ``shockfriction subgrid``: sub-grid columns driven by imposed loading histories.
+
+Every dimensional value is a string with its unit ("200 m/s", "10 GPa", "20 um").  Layout::
+
+    title = "..."                       # optional
+    model = "thermoelastic"             # or "thermoelastoplastic" (thesis ch. 7 / ch. 8)
+    material = "Al5083-H111"            # the modelled body (library name)
+    other_material = "AISI321"          # heat share beta_T = e1/(e1+e2) ... or:
+    # heat_share = 0.677                # ... the share of the frictional heat entering the body
+    T0 = "300 K"                        # initial temperature, below the melting temperature
+    duration = "2.5 us"
+    dt = "1 ns"
+    output_times = ["0.1 us", "1 us"]   # depth profiles written at these times
+
+    [column]
+    thickness = "20 um"                 # h (thesis h_epsilon)
+    cells = 500                         # M
+    grading = 1.0                       # ratio of successive cells, >= 1 (1: uniform grid)
+
+    [friction]                          # needed unless every loading is a heat flux
+    mu0 = 0.3                           # Coulomb coefficient
+    f = 0.3                             # the model's coefficient on the SCG strength
+    taylor_quinney = 0.9
+
+    [[loading]]                         # one table per column (several: several columns)
+    name = "ball"                       # optional; names the extra output files
+    interpolation = "constant"          # or "linear" between the table's points
+    times = ["0 us", "2.5 us"]
+    slip_velocity = ["200 m/s", "200 m/s"]
+    normal_stress = ["10 GPa", "10 GPa"]
+    # heat_flux = ["6.12e9 W/m^2", ...] # instead: pure thermal mode (generated flux)
+
+"constant" holds each value until the next time (the last one to the end).
+"""
+
+from __future__ import annotations
+
+from typing import Literal, Optional
+
+from pydantic import Field, ValidationInfo, field_validator, model_validator
+
+from shockfriction.deck.base import DeckModel
+from shockfriction.errors import DeckError
+from shockfriction.units import (Dimensionless, HeatFlux, NonNegativeTime, PositiveLength, PositiveTemperature,
+                                 PositiveTime, Pressure, Velocity)
+
+
+class ColumnDeck(DeckModel):
+    """The 1D column under each interface node."""
+
+    thickness: PositiveLength = Field(default=20e-6, description="column thickness h")
+    cells: int = Field(default=500, ge=2, le=1_000_000, description="number of cells M")
+    grading: float = Field(default=1.0, ge=1.0, le=2.0, description="ratio of successive cell sizes")
+
+
+class FrictionDeck(DeckModel):
+    """Friction-law parameters: tau = min(mu0 F_N, f Ymax/sqrt(3) G/G0)."""
+
+    mu0: Dimensionless = Field(ge=0.0)
+    f: Dimensionless = Field(ge=0.0)
+    taylor_quinney: Dimensionless = Field(default=0.9, ge=0.0, le=1.0)
+
+
+class LoadingDeck(DeckModel):
+    """A loading history for one column: (slip velocity, normal stress) or a heat flux, at given times."""
+
+    name: Optional[str] = None
+    interpolation: Literal["constant", "linear"] = "constant"
+    times: list[NonNegativeTime] = Field(min_length=1)
+    slip_velocity: Optional[list[Velocity]] = None
+    normal_stress: Optional[list[Pressure]] = None
+    heat_flux: Optional[list[HeatFlux]] = None
+
+    @field_validator("times")
+    @classmethod
+    def _increasing(cls, v):
+        if v[0] != 0.0:
+            raise ValueError("a table starting at time 0 (e.g. ['0 us', ...])")
+        if any(b <= a for a, b in zip(v, v[1:])):
+            raise ValueError("strictly increasing times")
+        return v
+
+    @model_validator(mode="after")
+    def _one_kind(self):
+        mech = self.slip_velocity is not None or self.normal_stress is not None
+        if mech and self.heat_flux is not None:
+            raise ValueError("either slip_velocity and normal_stress, or heat_flux, not both")
+        if mech and (self.slip_velocity is None or self.normal_stress is None):
+            raise ValueError("both slip_velocity and normal_stress (or heat_flux alone)")
+        if not mech and self.heat_flux is None:
+            raise ValueError("a history: slip_velocity and normal_stress, or heat_flux")
+        n = len(self.times)
+        for key in ("slip_velocity", "normal_stress", "heat_flux"):
+            vals = getattr(self, key)
+            if vals is not None and len(vals) != n:
+                raise ValueError(f"{key} with one value per time ({n} values, got {len(vals)})")
+        return self
+
+    @property
+    def kind(self) -> str:
+        return "flux" if self.heat_flux is not None else "slip"
+
+
+class SubgridDeck(DeckModel):
+    """The whole deck of ``shockfriction subgrid``."""
+
+    title: str = ""
+    model: Literal["thermoelastic", "thermoelastoplastic"] = "thermoelastic"
+    material: str
+    other_material: Optional[str] = None
+    heat_share: Optional[Dimensionless] = Field(default=None, validate_default=True)
+    T0: PositiveTemperature = Field(default=300.0)
+    duration: PositiveTime
+    dt: PositiveTime
+    output_times: list[NonNegativeTime] = Field(default_factory=list)
+    column: ColumnDeck = Field(default_factory=ColumnDeck)
+    friction: Optional[FrictionDeck] = None
+    loading: list[LoadingDeck] = Field(min_length=1)
+
+    @field_validator("material", "other_material")
+    @classmethod
+    def _known_material(cls, v):
+        if v is None:
+            return v
+        from shockfriction.materials.library import get_material, material_names
+        try:
+            get_material(v)
+        except DeckError:
+            raise ValueError(f"a material of the library, one of {', '.join(material_names())}") from None
+        return v
+
+    @field_validator("heat_share")
+    @classmethod
+    def _share(cls, v, info: ValidationInfo):
+        other = info.data.get("other_material")
+        if v is None and other is None and "other_material" in info.data:
+            raise ValueError("a heat share in [0, 1], or other_material to derive it from the effusivities")
+        if v is not None and other is not None:
+            raise ValueError("either heat_share or other_material, not both")
+        if v is not None and not 0.0 <= v <= 1.0:
+            raise ValueError("a heat share in [0, 1]")
+        return v
+
+    @field_validator("T0")
+    @classmethod
+    def _below_melting(cls, v, info: ValidationInfo):
+        name = info.data.get("material")
+        if name is not None:
+            from shockfriction.materials.library import get_material
+            T_F = get_material(name).melting_temperature
+            if not v < T_F:
+                raise ValueError(f"an initial temperature below the melting temperature of {name} ({T_F:g} K)")
+        return v
+
+    @field_validator("dt")
+    @classmethod
+    def _step_within_duration(cls, v, info: ValidationInfo):
+        d = info.data.get("duration")
+        if d is not None and v > d:
+            raise ValueError(f"a time step no longer than the duration ({d:g} s)")
+        return v
+
+    @field_validator("output_times")
+    @classmethod
+    def _within_duration(cls, v, info: ValidationInfo):
+        d = info.data.get("duration")
+        if d is not None and any(t > d * (1 + 1e-12) for t in v):
+            raise ValueError(f"output times within the duration ({d:g} s)")
+        return sorted(set(v))
+
+    @field_validator("loading")
+    @classmethod
+    def _consistent(cls, v, info: ValidationInfo):
+        kinds = {ld.kind for ld in v}
+        if len(kinds) > 1:
+            raise ValueError("every loading of one kind: all slip/normal-stress histories or all heat fluxes")
+        if "slip" in kinds and info.data.get("friction") is None:
+            raise ValueError("a friction table with mu0 and f for slip/normal-stress loading")
+        names = [ld.name for ld in v if ld.name]
+        if len(set(names)) != len(names):
+            raise ValueError("distinct loading names")
+        return v
+
+    @property
+    def mode(self) -> str:
+        """'slip' (friction models) or 'flux' (pure thermal)."""
+        return self.loading[0].kind
+

@@ -1,0 +1,178 @@
+"""Uncoupled sub-grid runs: imposed histories of slip velocity and normal stress, or of heat flux.
+
+This is the thesis's uncoupled solver (§7.3.2, §8.2) generalised to tables: the slip is
+imposed (both masses infinite in :class:`SubgridInterface`, so the sticking cap and the
+slip correction vanish), the loading of a step is the table's value at the step's midpoint
+(exact for piecewise-constant tables whose breaks fall on step ends).  In the pure thermal
+mode the table gives the generated flux and the column receives beta_T times it.
+
+Outputs (written row by row and flushed, so that a run that fails leaves readable files):
+
+* ``history.csv``: ``t_s,theta_interface_K,tau_Pa,slip_macro_mps,slip_local_mps,flux_Wm2,iterations``
+  at the end of every step; ``flux_Wm2`` is the flux entering the column (beta_T tau [v]);
+  tau and the slips are ``nan`` in the pure thermal mode;
+* ``profiles.csv``: ``t_s,z_m,theta_K,eps_p`` in long form at the output times (and t = 0).
+
+With several loadings (columns) the first writes these names and loading ``k`` writes
+``history_<name>.csv`` / ``profiles_<name>.csv`` (name defaults to ``column<k>``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from shockfriction.errors import SimulationError
+from shockfriction.friction.subgrid.column import ThermalColumns
+from shockfriction.friction.subgrid.interface import SubgridInterface
+from shockfriction.materials.library import get_material, heat_share
+
+HISTORY_HEADER = "t_s,theta_interface_K,tau_Pa,slip_macro_mps,slip_local_mps,flux_Wm2,iterations"
+PROFILE_HEADER = "t_s,z_m,theta_K,eps_p"
+FLUSH_EVERY = 200
+
+
+def table_value(times, values, t, interpolation: str):
+    """Value of a loading table at times ``t`` (array): held constant or linearly interpolated."""
+    times = np.asarray(times, float)
+    values = np.asarray(values, float)
+    t = np.asarray(t, float)
+    if interpolation == "linear":
+        return np.interp(t, times, values)
+    idx = np.searchsorted(times, t, side="right") - 1
+    return values[np.clip(idx, 0, values.size - 1)]
+
+
+def step_ends(duration: float, dt: float, output_times) -> np.ndarray:
+    """End times of the steps: multiples of dt, shortened to land on every output time and the end."""
+    n = int(math.floor(duration / dt * (1 + 1e-12)))
+    ends = dt * np.arange(1, n + 1)
+    extra = [t for t in list(output_times) + [duration] if t > 0.0]
+    ends = np.union1d(ends, extra)
+    ends = ends[ends <= duration * (1 + 1e-12)]
+    # merge ends closer than 1e-9 dt (round-off duplicates)
+    keep = np.concatenate(([True], np.diff(ends) > 1e-9 * dt))
+    return ends[keep]
+
+
+@dataclass
+class RunResult:
+    """What a run produced (for plots and tests): per column, time series and profiles."""
+
+    names: list[str]
+    t: np.ndarray
+    theta_interface: np.ndarray           # (n_steps, n_columns)
+    tau: np.ndarray
+    flux_in: np.ndarray
+    iterations: np.ndarray
+    z: np.ndarray
+    profile_times: list[float] = field(default_factory=list)
+    profiles: list[np.ndarray] = field(default_factory=list)   # each (n_columns, n_nodes)
+    eps_profiles: list[np.ndarray] = field(default_factory=list)
+    files: list[Path] = field(default_factory=list)
+    melting_temperature: float = math.nan
+
+
+def _names(deck) -> list[str]:
+    return [ld.name or f"column{k}" for k, ld in enumerate(deck.loading)]
+
+
+def _file(out: Path, stem: str, k: int, names: list[str]) -> Path:
+    return out / (f"{stem}.csv" if k == 0 else f"{stem}_{names[k]}.csv")
+
+
+def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
+    """Run a validated :class:`~shockfriction.deck.subgrid.SubgridDeck`; write the CSV files in ``out_dir``."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    names = _names(deck)
+    n = len(deck.loading)
+    mat = get_material(deck.material)
+    share = deck.heat_share if deck.heat_share is not None else heat_share(mat, get_material(deck.other_material))
+    ends = step_ends(deck.duration, deck.dt, deck.output_times)
+    starts = np.concatenate(([0.0], ends[:-1]))
+    mids = 0.5 * (starts + ends)
+    thermal = deck.mode == "flux"
+    if thermal:
+        flux = np.stack([table_value(ld.times, ld.heat_flux, mids, ld.interpolation) for ld in deck.loading], 1)
+        columns = ThermalColumns(n, deck.column.thickness, deck.column.cells, mat.conductivity, mat.rho0,
+                                 mat.heat_capacity, T0=deck.T0, grading=deck.column.grading)
+        z = columns.z
+        sg = None
+    else:
+        slip = np.stack([table_value(ld.times, ld.slip_velocity, mids, ld.interpolation) for ld in deck.loading], 1)
+        sigma = np.stack([table_value(ld.times, ld.normal_stress, mids, ld.interpolation) for ld in deck.loading], 1)
+        fr = deck.friction
+        sg = SubgridInterface(n, mat, share, thickness=deck.column.thickness, n_cells=deck.column.cells,
+                              grading=deck.column.grading, model=deck.model, mu0=fr.mu0, f=fr.f,
+                              taylor_quinney=fr.taylor_quinney, T0=deck.T0)
+        columns = sg.columns
+        z = sg.z
+    nsteps = ends.size
+    res = RunResult(names, ends, np.empty((nsteps, n)), np.full((nsteps, n), np.nan), np.empty((nsteps, n)),
+                    np.zeros((nsteps, n), dtype=np.int64), z, melting_temperature=mat.melting_temperature)
+    hist_files = [_file(out, "history", k, names) for k in range(n)]
+    prof_files = [_file(out, "profiles", k, names) for k in range(n)]
+    res.files = hist_files + prof_files
+    out_times = [t for t in deck.output_times]
+    hist = [p.open("w", newline="") for p in hist_files]
+    prof = [p.open("w", newline="") for p in prof_files]
+    try:
+        for fh in hist:
+            fh.write(HISTORY_HEADER + "\n")
+        for fh in prof:
+            fh.write(PROFILE_HEADER + "\n")
+        eps0 = np.zeros((n, z.size))
+        if out_times and out_times[0] == 0.0:
+            _write_profiles(prof, res, 0.0, z, columns.theta, eps0)
+        pending = [t for t in out_times if t > 0.0]
+        for i in range(nsteps):
+            dt = ends[i] - starts[i]
+            if thermal:
+                q = share * flux[i]
+                columns.step(dt, q)
+                theta_s = columns.theta[:, 0]
+                if not np.all(np.isfinite(columns.theta)) or np.any(columns.theta >= mat.melting_temperature):
+                    j = int(np.argmax(np.max(columns.theta, axis=1)))
+                    raise SimulationError(f"{source}: column {names[j]!r} reached {columns.theta[j].max()!r} K "
+                                          f"(melting {mat.melting_temperature:g} K) at step {i + 1}, "
+                                          f"t = {ends[i]:.6e} s: the imposed flux melts the body")
+                tau = slip_m = slip_l = np.full(n, np.nan)
+                q_in = q
+                iters = np.zeros(n, dtype=np.int64)
+            else:
+                tau, _ = sg.step(sigma[i], slip[i], slip[i], np.inf, np.inf, 1.0, dt, cycle=i + 1, time=ends[i])
+                theta_s = sg.theta_interface
+                slip_m, slip_l, q_in, iters = sg.slip_macro, sg.slip_local, sg.flux_in, sg.iterations
+            res.theta_interface[i] = theta_s
+            res.tau[i] = tau
+            res.flux_in[i] = q_in
+            res.iterations[i] = iters
+            for k, fh in enumerate(hist):
+                fh.write(f"{ends[i]:.9e},{theta_s[k]:.9e},{tau[k]:.9e},{slip_m[k]:.9e},{slip_l[k]:.9e},"
+                         f"{q_in[k]:.9e},{int(iters[k])}\n")
+            if (i + 1) % FLUSH_EVERY == 0:
+                for fh in hist:
+                    fh.flush()
+            if pending and ends[i] >= pending[0] * (1 - 1e-12):
+                pending.pop(0)
+                eps = sg.eps_p if sg is not None else eps0
+                _write_profiles(prof, res, ends[i], z, columns.theta, eps)
+    except SimulationError as exc:
+        raise SimulationError(f"{exc}\n(output so far in {out})") from None
+    finally:
+        for fh in hist + prof:
+            fh.close()
+    return res
+
+
+def _write_profiles(files, res: RunResult, t: float, z, theta, eps) -> None:
+    res.profile_times.append(t)
+    res.profiles.append(theta.copy())
+    res.eps_profiles.append(eps.copy())
+    for k, fh in enumerate(files):
+        fh.write("".join(f"{t:.9e},{zi:.9e},{th:.9e},{e:.9e}\n" for zi, th, e in zip(z, theta[k], eps[k])))
+        fh.flush()

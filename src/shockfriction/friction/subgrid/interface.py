@@ -1,0 +1,246 @@
+"""The vectorised per-step API of the sub-grid interface models (what the slide line calls).
+
+One :class:`SubgridInterface` holds ``n_columns`` 1D thermal columns, one per slide-line
+node, all of the modelled body's material (by default the slave side, ARCHITECTURE.md).
+Every hydro step the slide line calls :meth:`SubgridInterface.step` once with arrays of
+shape ``(n_columns,)`` (scalars broadcast); all quantities are SI.
+
+Inputs of ``step(sigma_n, v_free, slip_prev, m_slave, m_guide, area, dt)``:
+
+``sigma_n`` (Pa)
+    normal contact stress F_N from the contact step, **compression positive**.
+    ``sigma_n <= 0`` means the node is not in contact: no friction, no heat.
+``v_free`` (m/s)
+    the free (uncorrected) relative tangential velocity [V*]^{n+1/2} =
+    (v_slave - v_guide) . t, after the contact step, before friction.
+``slip_prev`` (m/s)
+    the corrected relative tangential velocity [V]^{n-1/2} of the previous step (the
+    ``slip_corrected`` this method returned then; ``v_free`` on the first step), same sign
+    convention.  It time-centres the slip that heats the interface, [V]^n = ([V]^{n+1/2} +
+    [V]^{n-1/2})/2 (thesis eq. 7.100).
+``m_slave``, ``m_guide`` (kg)
+    mass of the slave node and of its projection on the guide surface.  ``np.inf`` for a
+    rigid partner; both ``np.inf`` imposes the slip (the uncoupled solvers of §7.3.2, §8.2).
+``area`` (m^2)
+    the slave node's contact area S.
+``dt`` (s)
+    the hydro step (the columns use the same step; factors are reused while it is unchanged).
+
+Returns ``(tau, slip_corrected)``:
+
+``tau`` (Pa, >= 0)
+    magnitude of the friction stress F_T = tau(0).  The friction force **opposes the free
+    slip**: the slave receives the impulse -sign(v_free) tau S dt, the guide point
+    +sign(v_free) tau S dt (equal and opposite: momentum is conserved), to be shared
+    between the guide nodes by the slide line (shares 1-coef, coef).
+``slip_corrected`` (m/s)
+    the macroscopic relative velocity after friction, [V]^{n+1/2} = v_free -
+    sign(v_free) tau S dt (1/m_slave + 1/m_guide) (thesis eq. 7.99 with the sign erratum of
+    digest §9 item 6 fixed).  It never reverses the slip: tau <= tau_stick =
+    m_r |v_free|/(S dt), m_r = m_slave m_guide/(m_slave + m_guide) (reduced-mass sticking force
+    F* of eq. 6.82), and tau = tau_stick gives slip_corrected = 0 (the node sticks).  A node with
+    ``v_free == 0`` needs no friction and gets tau = 0 (also when the slip is imposed).
+
+The stress is tau = min(mu0 sigma_n, tau_stick, f Ymax/sqrt(3) G(sigma_n, Theta(0))/G0)
+(Coulomb cap, sticking cap and the thesis's SCG branch, eq. 7.12 / 8.28), solved together
+with the heat flux beta_T tau |[v]| into the column and the interface temperature Theta(0)
+(Brent, tolerance ``xtol`` kelvin).  ``slip`` in this module always means a relative
+tangential *velocity* (m/s), not a displacement.
+
+Per-node diagnostics after a step (arrays ``(n_columns,)``): ``theta_interface`` (K, column
+temperature at z = 0), ``slip_macro`` (|[V]^n|, m/s), ``slip_local`` ([v]^n, m/s, the true
+interface slip that heats), ``slip_plastic`` (sqrt(3) int d_eps dz/dt, m/s; 0 for the
+thermoelastic model), ``flux_in`` (beta_T tau [v], W/m^2 entering the column), ``iterations``
+(Brent steps), and cumulative energies per unit area (J/m^2): ``friction_work`` (sum of
+tau |[V]^n| dt), ``heat_interface`` (sum of flux_in dt), ``plastic_work`` (sum of sqrt(3) tau
+int d_eps dz), ``heat_plastic`` (plastic heat deposited in the column, beta_Q times the plastic work,
+one step late), ``heat_stored`` (rho c int (theta - T0) dz).  Balances: friction_work =
+heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_plastic.  Per-node profiles:
+``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a buffer that the next step
+replaces: copy it to keep it).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from shockfriction.errors import SimulationError
+from shockfriction.friction.subgrid.column import ThermalColumns, affine_update
+from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
+                                                           solve_thermoelastic)
+from shockfriction.friction.subgrid.thermoelastoplastic import solve_thermoelastoplastic, update_hardening
+from shockfriction.materials.library import Material, get_material, heat_share
+
+MODELS = ("thermoelastic", "thermoelastoplastic")
+
+
+def _material(m) -> Material:
+    return get_material(m) if isinstance(m, str) else m
+
+
+class SubgridInterface:
+    """Sub-grid columns under ``n_columns`` slide-line nodes (see the module docstring for the API).
+
+    ``other`` is the opposite body's material (heat share beta_T = e1/(e1 + e2), thesis eq. 2.101)
+    or directly the share beta_T in [0, 1] of the frictional heat entering the modelled body.
+    """
+
+    def __init__(self, n_columns: int, material, other, *, thickness: float = 20e-6, n_cells: int = 500,
+                 grading: float = 1.0, model: str = "thermoelastic", mu0: float, f: float,
+                 taylor_quinney: float = 0.9, T0: float = 300.0, xtol: float = 1e-9, max_iter: int = 100):
+        if model not in MODELS:
+            raise ValueError(f"model must be one of {MODELS}, got {model!r}")
+        self.material = _material(material)
+        if isinstance(other, (int, float)) and not isinstance(other, bool):
+            self.beta_T = float(other)
+        else:
+            self.beta_T = heat_share(self.material, _material(other))
+        if not 0.0 <= self.beta_T <= 1.0:
+            raise ValueError(f"heat share must lie in [0, 1], got {self.beta_T!r}")
+        if not (mu0 >= 0.0 and f >= 0.0 and 0.0 <= taylor_quinney <= 1.0):
+            raise ValueError(f"need mu0 >= 0, f >= 0, 0 <= taylor_quinney <= 1; got {mu0}, {f}, {taylor_quinney}")
+        T_F = self.material.melting_temperature
+        if not T0 < T_F:
+            raise ValueError(f"initial temperature {T0} K must be below the melting temperature {T_F} K")
+        m = self.material
+        self.columns = ThermalColumns(n_columns, thickness, n_cells, m.conductivity, m.rho0, m.heat_capacity,
+                                      T0=T0, grading=grading)
+        self.model = model
+        self.mu0, self.f, self.beta_Q = float(mu0), float(f), float(taylor_quinney)
+        self.scg = m.scg_params()
+        self.xtol, self.max_iter = float(xtol), int(max_iter)
+        n, nn = self.n_columns, self.columns.n_nodes
+        self.eps_p = np.zeros((n, nn))
+        self._hard = np.ones((n, nn))  # (1 + beta eps_p)^n
+        self._new = np.empty((n, nn))
+        self._pending_plastic_heat = np.zeros((n, nn))  # J/m^3, deposited next step (lagged source)
+        self._deps = np.zeros((n, nn))
+        for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
+                     "friction_work", "heat_interface", "heat_plastic", "plastic_work"):
+            setattr(self, name, np.zeros(n))
+        self.theta_interface[:] = T0
+        self.iterations = np.zeros(n, dtype=np.int64)
+        self._status = np.zeros(n, dtype=np.int64)
+        self._theta_s = np.zeros(n)
+        self._v_half = np.zeros(n)
+
+    # ------------------------------------------------------------------ views
+    @property
+    def n_columns(self) -> int:
+        return self.columns.n_columns
+
+    @property
+    def z(self) -> np.ndarray:
+        return self.columns.z
+
+    @property
+    def theta(self) -> np.ndarray:
+        return self.columns.theta
+
+    @property
+    def heat_stored(self) -> np.ndarray:
+        return self.columns.heat_content()
+
+    @property
+    def plastic_heat_pending(self) -> np.ndarray:
+        """Plastic heat of the last step not yet deposited in the column (J/m^2)."""
+        return self._pending_plastic_heat @ self.columns.weights
+
+    # ------------------------------------------------------------------ the step
+    def step(self, sigma_n, v_free, slip_prev, m_slave, m_guide, area, dt: float, *,
+             cycle: int | None = None, time: float | None = None):
+        """Advance every column by ``dt``; return ``(tau, slip_corrected)`` (see module docstring)."""
+        n = self.n_columns
+        shape = (n,)
+        sig = np.broadcast_to(np.asarray(sigma_n, float), shape)
+        vf = np.broadcast_to(np.asarray(v_free, float), shape)
+        vp = np.broadcast_to(np.asarray(slip_prev, float), shape)
+        ms = np.broadcast_to(np.asarray(m_slave, float), shape)
+        mg = np.broadcast_to(np.asarray(m_guide, float), shape)
+        S = np.broadcast_to(np.asarray(area, float), shape)
+        dt = float(dt)
+        when = self._when(cycle, time)
+        if not (dt > 0.0 and math.isfinite(dt)):
+            raise SimulationError(f"sub-grid step {when}: time step {dt!r} is not positive and finite")
+        bad = ~(np.isfinite(sig) & np.isfinite(vf) & np.isfinite(vp) & (ms > 0) & (mg > 0) & (S > 0)
+                & np.isfinite(S))
+        if bad.any():
+            j = int(np.argmax(bad))
+            raise SimulationError(f"sub-grid step {when}: bad input at node {j}: sigma_n={sig[j]!r}, "
+                                  f"v_free={vf[j]!r}, slip_prev={vp[j]!r}, m_slave={ms[j]!r}, "
+                                  f"m_guide={mg[j]!r}, area={S[j]!r}")
+        inv_sum = 1.0 / ms + 1.0 / mg
+        k = S * dt * inv_sum  # slip change per unit friction stress
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tau_stick = np.where(inv_sum > 0.0, np.abs(vf) / np.where(k > 0.0, k, 1.0), np.inf)
+        tau_stick[vf == 0.0] = 0.0  # no free slip: no friction needed, none generated
+        in_contact = sig > 0.0
+        tau_cap = np.where(in_contact, np.minimum(self.mu0 * np.where(in_contact, sig, 0.0), tau_stick), 0.0)
+        F_N = np.where(in_contact, sig, 0.0)
+
+        plastic = self.model == "thermoelastoplastic"
+        source = self._pending_plastic_heat / dt if plastic else None
+        deposited = self._pending_plastic_heat @ self.columns.weights if plastic else None
+        theta_ad = self.columns.adiabatic(dt, source)
+        unit = self.columns.theta_unit
+        tau = self.tau
+        q_in = self.flux_in
+        if self.model == "thermoelastic":
+            solve_thermoelastic(np.ascontiguousarray(theta_ad[:, 0]), unit[0], F_N, np.ascontiguousarray(vf),
+                                np.ascontiguousarray(vp), k, tau_cap, self.beta_T, self.f, self.scg, self.xtol,
+                                self.max_iter, self._theta_s, tau, self._v_half, self.slip_local, q_in,
+                                self.iterations, self._status)
+            self.slip_plastic[:] = 0.0
+        else:
+            solve_thermoelastoplastic(theta_ad, unit, self.columns.weights, self.eps_p, self._hard, F_N,
+                                      np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T,
+                                      self.f, self.scg, dt, self.xtol, self.max_iter, self._theta_s, tau,
+                                      self._v_half, self.slip_local, self.slip_plastic, q_in, self._deps,
+                                      self.iterations, self._status)
+        self._check(when)
+        new = self._new
+        T_F = self.material.melting_temperature
+        bad = affine_update(theta_ad, q_in, unit, T_F, new)
+        if bad >= 0:
+            j, i = divmod(int(bad), new.shape[1])
+            raise SimulationError(f"sub-grid step {when}: column {j} reached {new[j, i]!r} K at z = {self.z[i]:.3e} m "
+                                  f"(melting {T_F} K)")
+        heated = (q_in != 0.0)
+        if plastic:
+            heated |= deposited != 0.0
+        self._new, self.columns.theta = self.columns.theta, new  # swap buffers instead of copying
+        self.columns.active |= heated
+        self.theta_interface[:] = new[:, 0]
+        v_half = self._v_half.copy()
+        self.slip_macro[:] = np.abs(0.5 * (v_half + vp))
+        self.friction_work += tau * self.slip_macro * dt
+        self.heat_interface += q_in * dt
+        if plastic:
+            self.heat_plastic += deposited
+            update_hardening(self.eps_p, self._deps, self._hard, self.scg)
+            self.plastic_work += SQRT3 * tau * (self._deps @ self.columns.weights)
+            self._pending_plastic_heat[...] = self.beta_Q * SQRT3 * tau[:, None] * self._deps
+        return tau.copy(), v_half
+
+    # ------------------------------------------------------------------ helpers
+    @staticmethod
+    def _when(cycle, time) -> str:
+        parts = []
+        if cycle is not None:
+            parts.append(f"cycle {cycle}")
+        if time is not None:
+            parts.append(f"t = {time:.6e} s")
+        return "(" + ", ".join(parts) + ")" if parts else ""
+
+    def _check(self, when: str) -> None:
+        st = self._status
+        if not st.any():
+            return
+        j = int(np.argmax(st != 0))
+        what = {ABOVE_MELT: "the column is at or above the melting temperature before the step",
+                NO_CONVERGENCE: f"the interface root finder did not converge in {self.max_iter} iterations",
+                BAD_INPUT: "non-finite input"}.get(int(st[j]), f"status {int(st[j])}")
+        raise SimulationError(f"sub-grid step {when}: node {j}: {what} "
+                              f"(theta_ad(0) = {self.columns.theta[j, 0]!r} K)")
