@@ -255,7 +255,7 @@ def write_outputs(result: FitResult, out_dir: Path) -> dict[str, Path]:
     with open(paths["computed"], "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["time [s]", "value [SI]"])
-        w.writerows(zip(map(repr, result.t_computed), map(repr, result.y_computed)))
+        w.writerows((f"{a:.12g}", f"{b:.12g}") for a, b in zip(result.t_computed, result.y_computed))
     with open(paths["evaluations"], "w", newline="") as fh:
         if result.history:
             w = csv.DictWriter(fh, fieldnames=list(result.history[0]))

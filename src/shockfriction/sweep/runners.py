@@ -25,7 +25,10 @@ import numpy as np
 from shockfriction.errors import DeckError
 
 # kind -> module exposing ``check(deck, source)`` and ``run(deck, workdir) -> RunResult``
-ADAPTERS: dict[str, str] = {}
+ADAPTERS: dict[str, str] = {
+    "run": "shockfriction.sweep.adapter_hydro",
+    "subgrid": "shockfriction.sweep.adapter_subgrid",
+}
 
 
 @dataclass
