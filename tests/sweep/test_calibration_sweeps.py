@@ -9,7 +9,6 @@ import h5py
 import numpy as np
 import pytest
 
-from shockfriction.deck.base import read_toml
 from shockfriction.materials.library import get_material
 from shockfriction.sweep.engine import run_sweep
 
