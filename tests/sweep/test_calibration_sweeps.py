@@ -126,3 +126,19 @@ op = "final"
         assert float(r["p_peak"]) == pytest.approx(p_exact, rel=0.01)
         assert float(r["fs_final"]) == pytest.approx(2 * up, rel=0.01)
     assert [r["v [m/s]"] for r in rows(res.table)] == ["100.0", "300.0"]
+
+
+def test_a_generated_deck_the_deck_model_refuses_exits_2_before_any_run(tmp_path, capsys):
+    from shockfriction.cli import main
+
+    (tmp_path / "sweep.toml").write_text(SHORT_BALL + """
+[[parameter]]
+path = "friction.mu0"
+values = [0.1, -0.1]
+""")
+    with pytest.raises(SystemExit) as exc:
+        main(["sweep", str(tmp_path / "sweep.toml"), "--out", str(tmp_path / "out")])
+    assert exc.value.code == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert "run r00001" in err and "friction.mu0 = -0.1: expected" in err and "greater than or equal to 0" in err
+    assert not (tmp_path / "out" / "runs").exists()

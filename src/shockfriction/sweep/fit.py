@@ -65,6 +65,7 @@ class FitResult:
     t_computed: np.ndarray
     y_computed: np.ndarray
     history: list[dict] = field(default_factory=list)
+    label: str = "value (SI)"
 
     def as_dict(self) -> dict:
         sd = np.sqrt(np.diag(self.covariance))
@@ -240,7 +241,8 @@ def _solve(spec: FitSpec, here: Path, ex: Executor, source: str) -> FitResult:
         identifiable=ident, at_bound=[bool(z <= tol or z >= 1 - tol) for z in sol.x],
         rms=float(np.sqrt(np.mean(sol.fun**2))), sum_squares=float(sol.fun @ sol.fun), dof=dof,
         success=bool(sol.success), message=str(sol.message), evaluations=int(sol.nfev), runs=prob.runs,
-        t_measured=prob.t_m, y_measured=prob.y_m, t_computed=t_c + shift, y_computed=y_c, history=prob.history)
+        t_measured=prob.t_m, y_measured=prob.y_m, t_computed=t_c + shift, y_computed=y_c, history=prob.history,
+        label=f"{spec.computed.record}.{spec.computed.value} (SI)")
 
 
 def write_outputs(result: FitResult, out_dir: Path) -> dict[str, Path]:

@@ -24,7 +24,7 @@ def plot_fit(result, path: Path) -> Path:
     us = 1e6
     ax.plot(result.t_measured * us, result.y_measured, ".", ms=3, color="0.3", label="measured")
     ax.plot(result.t_computed * us, result.y_computed, "-", color="C3", label="computed (best fit)")
-    ax.set_ylabel("value (SI)")
+    ax.set_ylabel(result.label)
     ax.legend(loc="best")
     ax.set_title("\n".join(_label(n, v, s, u) for n, v, s, u in
                            zip(result.names, result.values, result.sigma, result.units)), fontsize=9)
