@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from shockfriction.deck.base import read_toml
@@ -91,3 +92,61 @@ bounds = ["-100 ns", "100 ns"]
         err = abs(value - truth[name])
         print(f"{name}: {value:.6g} +- {sigma:.2g} (true {truth[name]:.6g}, {err / sigma:.2f} sigma)")
         assert err <= 3 * sigma and err <= tol[name]
+
+
+def test_two_records_fix_what_neither_fixes_alone(tmp_path):
+    """Ball case under 1 GPa (Coulomb cap binds: mu0) and under 10 GPa (SCG branch: f only).
+
+    The 10 GPa record alone leaves mu0 not identifiable; fitted together (shared mu0 and f,
+    each record weighted by its noise sigma) both come back within 3 sigma and 1 %, and the
+    weighted residual is the unit normal noise (rms 1 within 15 %).
+    """
+    short = {"duration": "0.3 us", "output_times": [], "column.cells": 100, "dt": "2 ns"}
+    truth = {"friction.mu0": 0.2, "friction.f": 0.7}
+    for name, stress, seed in (("low", "1 GPa", 11), ("high", "10 GPa", 12)):
+        deck = set_paths(read_toml(BALL), {**short, **truth, "loading[0].normal_stress": [stress]})
+        t, tau = synthetic_record("subgrid", deck, "ball", "time", "tau", noise=5e6, seed=seed)
+        write_csv(tmp_path / f"{name}.csv", t, tau, "us", "MPa", ("time", "tau"))
+    sets = "\n".join(f'"{k}" = {v!r}'.replace("'", '"') for k, v in short.items())
+
+    def dataset(name, stress):
+        return f"""
+[[dataset]]
+name = "{name}"
+base = "{BALL}"
+sigma = 5.0
+[dataset.set]
+{sets}
+"loading[0].normal_stress" = ["{stress}"]
+[dataset.measured]
+file = "{name}.csv"
+value = "tau"
+time_unit = "us"
+value_unit = "MPa"
+[dataset.computed]
+record = "ball"
+value = "tau"
+"""
+    params = """
+[[parameter]]
+path = "friction.mu0"
+bounds = [0.02, 0.5]
+initial = 0.1
+[[parameter]]
+path = "friction.f"
+bounds = [0.2, 1.2]
+initial = 0.5
+"""
+    (tmp_path / "high.toml").write_text(dataset("high", "10 GPa") + params)
+    alone = fit(tmp_path / "high.toml", workers=2)
+    assert alone.identifiable == [False, True] and np.isinf(alone.sigma[0])
+
+    (tmp_path / "both.toml").write_text(dataset("low", "1 GPa") + dataset("high", "10 GPa") + params)
+    res = fit(tmp_path / "both.toml", workers=2)
+    assert res.success and all(res.identifiable) and res.weighted
+    for name, value, sigma in zip(res.names, res.values, res.sigma):
+        err = abs(value - truth[name])
+        print(f"{name}: {value:.6g} +- {sigma:.2g} (true {truth[name]}, {err / sigma:.2f} sigma)")
+        assert err <= 3 * sigma and err <= 0.01 * truth[name]
+    assert res.rms == pytest.approx(1.0, rel=0.15)
+    assert [c.name for c in res.curves] == ["low", "high"]

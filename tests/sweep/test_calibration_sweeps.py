@@ -47,7 +47,7 @@ column = "tau"
 op = "max"
 """)
     local = run_sweep(tmp_path / "sweep.toml", tmp_path / "local", workers=2, progress=False)
-    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=":0") as cluster:
         dask = run_sweep(tmp_path / "sweep.toml", tmp_path / "dask", scheduler=cluster.scheduler_address,
                          progress=False)
     assert local.ok == dask.ok == 4

@@ -192,7 +192,7 @@ bounds = [-5.0, 5.0]
 """)
     with ThreadPoolExecutor(2) as ex:
         local = fit(tmp_path / "fit.toml", executor=ex)
-    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=":0") as cluster:
         remote = fit(tmp_path / "fit.toml", scheduler=cluster.scheduler_address)
     np.testing.assert_array_equal(local.values, remote.values)
     np.testing.assert_array_equal(local.sigma, remote.sigma)
@@ -208,3 +208,14 @@ def test_an_unreachable_scheduler_is_a_clear_error():
     with pytest.raises(DeckError, match="--scheduler = 'tcp://127.0.0.1:9': expected the address of a running Dask"):
         with open_executor("tcp://127.0.0.1:9", connect_timeout=1.0):
             pass
+
+
+def test_top_level_record_and_dataset_tables_together_exit_2(tmp_path, capsys, models_importable):
+    synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us"}, noise=0.0)
+    extra = '[[dataset]]\n[dataset.measured]\nfile = "measured.csv"\n[dataset.computed]\nrecord = "free_surface"\n'
+    (tmp_path / "fit.toml").write_text(RAMP_FIT.replace("[solver]", "") + extra)
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(tmp_path / "fit.toml"), "--workers", "1"])
+    assert exc.value.code == 2
+    err = " ".join(capsys.readouterr().err.split())
+    assert "kind, model, measured, computed, time_shift, set at the top level with dataset tables" in err

@@ -71,7 +71,7 @@ def test_local_pool_and_dask_cluster_give_identical_results(tmp_path, models_imp
 
     sweep = write_sweep(tmp_path)
     local = run_sweep(sweep, tmp_path / "local", workers=2, progress=False)
-    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=":0") as cluster:
         remote = run_sweep(sweep, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False)
     assert (local.ok, remote.ok) == (6, 6)
     ta, tb = read_table(local.table), read_table(remote.table)

@@ -37,7 +37,8 @@ def register(app: typer.Typer) -> None:
             note = ", ".join(x for x, on in (("not identifiable", not ident), ("at a bound", bound)) if on)
             table.add_row(n, f"{v:.6g}", f"{s:.3g}", u, note)
         console.print(table)
-        console.print(f"residual rms {res.rms:.4g} over {len(res.t_measured)} samples "
+        what = "weighted residual" if res.weighted else "residual"
+        console.print(f"{what} rms {res.rms:.4g} over {res.samples} samples "
                       f"({res.evaluations} evaluations, {res.runs} model runs)")
         console.print(f"report: {paths['report']}\nplot: {paths['plot']}")
         if not res.success:

@@ -1,8 +1,8 @@
 """Least-squares fit of deck parameters (and a time shift) to a measured record.
 
-Residuals, one per measured sample t_i inside the window:
+Residuals, one per measured sample t_i inside the window, for each dataset k:
 
-    r_i(p, s) = y_c(t_i - s; p) - y_m(t_i)
+    r_i(p, s_k) = (y_c(t_i - s_k; p) - y_m(t_i)) / sigma_k      (sigma_k = 1 SI unit if not given)
 
 with y_c the computed record linearly interpolated (held constant outside the
 computed time span) and s the time shift (measured time = computed time + s).
@@ -37,9 +37,22 @@ from shockfriction.sweep.executors import open_executor
 from shockfriction.sweep.fitspec import FitSpec, load_fit
 from shockfriction.sweep.measured import read_measured
 from shockfriction.sweep.paths import get_path, set_paths
-from shockfriction.sweep.quantities import in_unit, join_value, split_value
+from shockfriction.sweep.quantities import in_unit, join_value, si_factor, split_value
 from shockfriction.sweep.runners import check_deck, detect_kind
 from shockfriction.sweep.worker import execute
+
+
+@dataclass
+class Curve:
+    """One dataset at the optimum: measured samples and the computed record (shifted)."""
+
+    name: str
+    label: str
+    t_measured: np.ndarray
+    y_measured: np.ndarray
+    t_computed: np.ndarray
+    y_computed: np.ndarray
+    rms: float
 
 
 @dataclass
@@ -56,16 +69,14 @@ class FitResult:
     rms: float
     sum_squares: float
     dof: int
+    samples: int
     success: bool
     message: str
     evaluations: int
     runs: int
-    t_measured: np.ndarray
-    y_measured: np.ndarray
-    t_computed: np.ndarray
-    y_computed: np.ndarray
+    curves: list[Curve]
+    weighted: bool
     history: list[dict] = field(default_factory=list)
-    label: str = "value (SI)"
 
     def as_dict(self) -> dict:
         sd = np.sqrt(np.diag(self.covariance))
@@ -75,125 +86,173 @@ class FitResult:
                   for n, u, v, s, i, b in zip(self.names, self.units, self.values, self.sigma,
                                               self.identifiable, self.at_bound)}
         clean = lambda a: [[None if not np.isfinite(x) else float(x) for x in row] for row in a]  # noqa: E731
-        return {"parameters": params, "residual": {"rms": self.rms, "sum_squares": self.sum_squares,
-                                                   "dof": self.dof, "samples": len(self.t_measured)},
+        return {"parameters": params,
+                "residual": {"rms": self.rms, "sum_squares": self.sum_squares, "dof": self.dof,
+                             "samples": self.samples, "weighted": self.weighted,
+                             "per_dataset_rms_SI": {c.name or "record": c.rms for c in self.curves}},
                 "covariance": clean(self.covariance), "correlation": clean(corr),
                 "success": self.success, "message": self.message,
                 "evaluations": self.evaluations, "model_runs": self.runs}
 
 
+@dataclass
+class _Data:
+    """A dataset ready to evaluate: deck with the fixed overrides, measured samples in SI, weight."""
+
+    name: str
+    kind: str
+    model: str | None
+    deck0: dict
+    record: str
+    time: str
+    value: str
+    t_m: np.ndarray
+    y_m: np.ndarray
+    weight: float
+    shift: int | None  # index of its time shift in the variable vector
+
+    @property
+    def keep(self) -> dict:
+        return {"records": [self.record], "scalars": [], "derived": []}
+
+
 class FitProblem:
-    """The residual vector of a fit file as a function of the scaled variables z."""
+    """The residual vector of a fit file as a function of the scaled variables z.
+
+    Variables: the deck parameters (shared by every dataset), then one time shift per
+    dataset that asks for one.  Residuals: the datasets' blocks one after the other,
+    each divided by its sigma when given.
+    """
 
     def __init__(self, spec: FitSpec, here: Path, executor: Executor, source: str = "fit"):
         self.spec, self.ex, self.source = spec, executor, source
-        base = read_toml(here / spec.base) if spec.base else {}
-        self.deck0 = set_paths(base, spec.set, source) if spec.set else base
-        self.kind = spec.effective_kind or detect_kind(base, f"{source}: base = {spec.base!r}")
         self.params = spec.parameter
+        self.n_deck = len(self.params)
         self.units = [split_value(p.bounds[0])[1] for p in self.params]
         lo = [split_value(p.bounds[0])[0] for p in self.params]
         hi = [in_unit(p.bounds[1], u) for p, u in zip(self.params, self.units)]
         x0 = [in_unit(p.initial, u) if p.initial is not None else 0.5 * (a + b)
               for p, u, a, b in zip(self.params, self.units, lo, hi)]
-        if spec.time_shift is not None:
-            ts = spec.time_shift
-            lo.append(in_unit(ts.bounds[0], "s"))
-            hi.append(in_unit(ts.bounds[1], "s"))
-            x0.append(in_unit(ts.initial, "s"))
+        self.shift_names: list[str] = []
+        self.data: list[_Data] = []
+        for k, d in enumerate(spec.datasets()):
+            where = f"{source}: dataset[{k}]" if d.name else source
+            base = read_toml(here / d.base) if d.base else {}
+            deck0 = set_paths(base, d.set, where) if d.set else base
+            kind = d.effective_kind or detect_kind(base, f"{where}: base = {d.base!r}")
+            t_m, y_m = read_measured(d.measured, here, where)
+            shift = None
+            if d.time_shift is not None:
+                shift = self.n_deck + len(self.shift_names)
+                self.shift_names.append(f"time_shift.{d.name}" if d.name else "time_shift")
+                lo.append(in_unit(d.time_shift.bounds[0], "s"))
+                hi.append(in_unit(d.time_shift.bounds[1], "s"))
+                x0.append(in_unit(d.time_shift.initial, "s"))
+            weight = 1.0 / (d.sigma * si_factor(d.measured.value_unit)) if d.sigma else 1.0
+            self.data.append(_Data(d.name, kind, d.model, deck0, d.computed.record, d.computed.time,
+                                   d.computed.value, t_m, y_m, weight, shift))
         self.lo, self.hi, self.x0 = np.array(lo), np.array(hi), np.array(x0)
-        self.n_deck = len(self.params)
-        self.t_m, self.y_m = read_measured(spec.measured, here, source)
-        self.keep = {"records": [spec.computed.record], "scalars": [], "derived": []}
+        self.weighted = any(d.sigma for d in spec.datasets())
         self.cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self.history: list[dict] = []
         self.runs = 0
-        check_deck(self.kind, self.deck_for(self.x0), f"{source}: deck at the initial values", spec.model)
-        for corner in (self.lo, self.hi):
-            check_deck(self.kind, self.deck_for(corner), f"{source}: deck at the bounds", spec.model)
+        for ds in self.data:
+            for what, x in (("the initial values", self.x0), ("the lower bounds", self.lo), ("the upper bounds", self.hi)):
+                check_deck(ds.kind, self.deck_for(ds, x), f"{source}: {ds.name or 'deck'} at {what}", ds.model)
 
     # --- model runs -------------------------------------------------------------
     def x_of(self, z: np.ndarray) -> np.ndarray:
         return self.lo + np.asarray(z) * (self.hi - self.lo)
 
-    def deck_for(self, x: np.ndarray) -> dict:
+    def deck_for(self, ds: _Data, x: np.ndarray) -> dict:
         values = {p.path: join_value(v, u) for p, v, u in zip(self.params, x[: self.n_deck], self.units)}
-        return set_paths(self.deck0, values, self.source)
+        return set_paths(ds.deck0, values, self.source)
 
-    def records(self, xs: list[np.ndarray]) -> list[tuple[np.ndarray, np.ndarray]]:
-        """The computed (t, y) at each deck-parameter vector; new runs go to the executor together."""
-        decks = [self.deck_for(x) for x in xs]
-        keys = [run_key(self.kind, self.spec.model, d, self.keep) for d in decks]
-        todo: dict[str, tuple[dict, object]] = {}
-        for k, d in zip(keys, decks):
-            if k not in self.cache and k not in todo:
-                task = {"key": k, "kind": self.kind, "model": self.spec.model, "deck": d, "keep": self.keep}
-                todo[k] = (d, self.ex.submit(execute, task))
-        wait([fut for _, fut in todo.values()])
-        for k, (d, fut) in todo.items():
-            res = fut.result()
-            self.runs += 1
-            if res["status"] != "ok":
-                if res["error"].startswith("KeepError"):
-                    raise DeckError(f"{self.source}: computed.record = {self.spec.computed.record!r}: "
-                                    f"expected a record the run produces ({res['error']})")
-                raise SimulationError(f"{self.source}: model run failed at {self._describe(d)}: {res['error']}")
-            rec = res["records"][self.spec.computed.record]
-            for col in (self.spec.computed.time, self.spec.computed.value):
-                if col not in rec:
-                    raise DeckError(f"{self.source}: computed: column {col!r} not in record "
-                                    f"{self.spec.computed.record!r}; expected one of {sorted(rec)}")
-            self.cache[k] = (rec[self.spec.computed.time], rec[self.spec.computed.value])
-        return [self.cache[k] for k in keys]
+    def records(self, xs: list[np.ndarray]) -> list[list[tuple[np.ndarray, np.ndarray]]]:
+        """The computed (t, y) of every dataset at each parameter vector; new runs go out together."""
+        jobs = [[(ds, self.deck_for(ds, x)) for ds in self.data] for x in xs]
+        keys = [[run_key(ds.kind, ds.model, deck, ds.keep) for ds, deck in row] for row in jobs]
+        todo: dict[str, tuple] = {}
+        for row, krow in zip(jobs, keys):
+            for (ds, deck), k in zip(row, krow):
+                if k not in self.cache and k not in todo:
+                    task = {"key": k, "kind": ds.kind, "model": ds.model, "deck": deck, "keep": ds.keep}
+                    todo[k] = (ds, deck, self.ex.submit(execute, task))
+        wait([fut for *_, fut in todo.values()])
+        for k, (ds, deck, fut) in todo.items():
+            self.cache[k] = self._unpack(ds, deck, fut.result())
+        return [[self.cache[k] for k in krow] for krow in keys]
+
+    def _unpack(self, ds: _Data, deck: dict, res: dict) -> tuple[np.ndarray, np.ndarray]:
+        self.runs += 1
+        where = f"{self.source}: {ds.name + ': ' if ds.name else ''}"
+        if res["status"] != "ok":
+            if res["error"].startswith("KeepError"):
+                raise DeckError(f"{where}computed.record = {ds.record!r}: expected a record the run produces "
+                                f"({res['error']})")
+            raise SimulationError(f"{where}model run failed at {self._describe(deck)}: {res['error']}")
+        rec = res["records"][ds.record]
+        for col in (ds.time, ds.value):
+            if col not in rec:
+                raise DeckError(f"{where}computed: column {col!r} not in record {ds.record!r}; "
+                                f"expected one of {sorted(rec)}")
+        return rec[ds.time], rec[ds.value]
 
     def _describe(self, deck: dict) -> str:
         return ", ".join(f"{p.column} = {get_path(deck, p.path, self.source)!r}" for p in self.params)
 
     # --- residuals and Jacobian ---------------------------------------------------
-    def shift_of(self, x: np.ndarray) -> float:
-        return float(x[self.n_deck]) if len(x) > self.n_deck else 0.0
-
-    def residual_of(self, rec: tuple[np.ndarray, np.ndarray], shift: float) -> np.ndarray:
+    def block(self, ds: _Data, rec: tuple[np.ndarray, np.ndarray], x: np.ndarray, ds_shift: float = 0.0) -> np.ndarray:
+        """Weighted residuals of one dataset: w (y_c(t_i - s) - y_m(t_i))."""
+        shift = (x[ds.shift] if ds.shift is not None else 0.0) + ds_shift
         t_c, y_c = rec
-        return np.interp(self.t_m - shift, t_c, y_c) - self.y_m
+        return ds.weight * (np.interp(ds.t_m - shift, t_c, y_c) - ds.y_m)
+
+    def residual(self, recs: list, x: np.ndarray) -> np.ndarray:
+        return np.concatenate([self.block(ds, rec, x) for ds, rec in zip(self.data, recs)])
 
     def fun(self, z: np.ndarray) -> np.ndarray:
         x = self.x_of(z)
-        r = self.residual_of(self.records([x])[0], self.shift_of(x))
+        r = self.residual(self.records([x])[0], x)
         self.history.append({**{n: float(v) for n, v in zip(self.names, x)}, "rms": float(np.sqrt(np.mean(r**2)))})
         return r
 
     def jac(self, z: np.ndarray) -> np.ndarray:
         h = self.spec.solver.step
         central = self.spec.solver.difference == "central"
-        points, plan = [self.x_of(z)], []
+        x = self.x_of(z)
+        points, plan = [x], []
         for j in range(self.n_deck):
             up, down = z[j] + h <= 1.0, z[j] - h >= 0.0
-            a, b = (z[j] + h if up else z[j], z[j] - h if down else z[j]) if central else \
-                   ((z[j] + h, z[j]) if up else (z[j], z[j] - h))
+            if central:
+                a, b = (z[j] + h if up else z[j]), (z[j] - h if down else z[j])
+            else:
+                a, b = (z[j] + h, z[j]) if up else (z[j], z[j] - h)
             za, zb = z.copy(), z.copy()
             za[j], zb[j] = a, b
             plan.append((len(points), len(points) + 1, a - b))
             points += [self.x_of(za), self.x_of(zb)]
         recs = self.records(points)
-        shift = self.shift_of(points[0])
-        r = [self.residual_of(rec, shift) for rec in recs]
-        J = np.empty((len(self.t_m), len(z)))
+        J = np.zeros((sum(len(ds.t_m) for ds in self.data), len(z)))
         for j, (ia, ib, dz) in enumerate(plan):
-            J[:, j] = (r[ia] - r[ib]) / dz
-        if len(z) > self.n_deck:  # the shift: no run, difference the interpolated record
-            ds = h * (self.hi[-1] - self.lo[-1])
-            J[:, -1] = (self.residual_of(recs[0], shift + ds) - self.residual_of(recs[0], shift - ds)) / (
-                2 * ds / (self.hi[-1] - self.lo[-1]))
+            J[:, j] = (self.residual(recs[ia], x) - self.residual(recs[ib], x)) / dz
+        row = 0
+        for ds, rec in zip(self.data, recs[0]):  # the shifts: no run, difference the interpolated record
+            m = len(ds.t_m)
+            if ds.shift is not None:
+                width = self.hi[ds.shift] - self.lo[ds.shift]
+                ds_ = h * width
+                J[row:row + m, ds.shift] = (self.block(ds, rec, x, ds_) - self.block(ds, rec, x, -ds_)) / (2 * h)
+            row += m
         return J
 
     @property
     def names(self) -> list[str]:
-        return [p.column for p in self.params] + (["time_shift"] if self.spec.time_shift else [])
+        return [p.column for p in self.params] + self.shift_names
 
     @property
     def all_units(self) -> list[str]:
-        return self.units + (["s"] if self.spec.time_shift else [])
+        return self.units + ["s"] * len(self.shift_names)
 
 
 def covariance(J: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, list[bool], int]:
@@ -230,34 +289,38 @@ def _solve(spec: FitSpec, here: Path, ex: Executor, source: str) -> FitResult:
     sol = least_squares(prob.fun, z0, jac=prob.jac, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
                         max_nfev=s.max_evaluations, xtol=s.xtol, ftol=s.ftol, gtol=s.gtol)
     x = prob.x_of(sol.x)
-    scale = prob.hi - prob.lo
-    J = sol.jac / scale  # dr/dx from dr/dz
+    J = sol.jac / (prob.hi - prob.lo)  # dr/dx from dr/dz
     cov, ident, dof = covariance(J, sol.fun)
-    t_c, y_c = prob.records([x])[0]
-    shift = prob.shift_of(x)
+    curves = []
+    for ds, (t_c, y_c) in zip(prob.data, prob.records([x])[0]):
+        shift = x[ds.shift] if ds.shift is not None else 0.0
+        r = np.interp(ds.t_m - shift, t_c, y_c) - ds.y_m
+        curves.append(Curve(ds.name, f"{ds.record}.{ds.value} (SI)", ds.t_m, ds.y_m, t_c + shift, y_c,
+                            float(np.sqrt(np.mean(r**2)))))
     tol = 1e-9
     return FitResult(
         names=prob.names, units=prob.all_units, values=x, sigma=np.sqrt(np.diag(cov)), covariance=cov,
         identifiable=ident, at_bound=[bool(z <= tol or z >= 1 - tol) for z in sol.x],
         rms=float(np.sqrt(np.mean(sol.fun**2))), sum_squares=float(sol.fun @ sol.fun), dof=dof,
-        success=bool(sol.success), message=str(sol.message), evaluations=int(sol.nfev), runs=prob.runs,
-        t_measured=prob.t_m, y_measured=prob.y_m, t_computed=t_c + shift, y_computed=y_c, history=prob.history,
-        label=f"{spec.computed.record}.{spec.computed.value} (SI)")
+        samples=len(sol.fun), success=bool(sol.success), message=str(sol.message), evaluations=int(sol.nfev),
+        runs=prob.runs, curves=curves, weighted=prob.weighted, history=prob.history)
 
 
 def write_outputs(result: FitResult, out_dir: Path) -> dict[str, Path]:
-    """fit.json (report), computed.csv (best computed record, shifted), evaluations.csv, fit.png."""
+    """fit.json (report), computed[_<dataset>].csv (best computed records, shifted), evaluations.csv, fit.png."""
     from shockfriction.sweep.fitplot import plot_fit
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    paths = {"report": out_dir / "fit.json", "computed": out_dir / "computed.csv",
-             "evaluations": out_dir / "evaluations.csv", "plot": out_dir / "fit.png"}
+    paths = {"report": out_dir / "fit.json", "evaluations": out_dir / "evaluations.csv", "plot": out_dir / "fit.png"}
     paths["report"].write_text(json.dumps(result.as_dict(), indent=2))
-    with open(paths["computed"], "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["time [s]", "value [SI]"])
-        w.writerows((f"{a:.12g}", f"{b:.12g}") for a, b in zip(result.t_computed, result.y_computed))
+    for c in result.curves:
+        key = f"computed_{c.name}" if c.name else "computed"
+        paths[key] = out_dir / f"{key}.csv"
+        with open(paths[key], "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["time [s]", "value [SI]"])
+            w.writerows((f"{a:.12g}", f"{b:.12g}") for a, b in zip(c.t_computed, c.y_computed))
     with open(paths["evaluations"], "w", newline="") as fh:
         if result.history:
             w = csv.DictWriter(fh, fieldnames=list(result.history[0]))

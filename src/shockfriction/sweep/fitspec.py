@@ -23,10 +23,17 @@ Example::
     [time_shift]                       # optional: measured time = computed time + shift
     bounds = ["-50 ns", "50 ns"]
     initial = "0 ns"
+    sigma = 5.0                        # optional: noise of the record, in measured.value_unit
     [solver]
     max_evaluations = 40               # least_squares max_nfev
     difference = "central"             # Jacobian by central or forward differences
     step = 0.01                        # difference step, as a fraction of each bound interval
+
+Several records at once (shots at several velocities, several probes): the fitted
+parameters are shared, each ``[[dataset]]`` has its own ``name``, ``base``, ``set``,
+``measured``, ``computed``, optional ``time_shift`` and ``sigma``.  With ``sigma``
+the residuals are divided by it (records in different units can be combined);
+without, they are in SI units of the measured value.
 
 An HDF5 measured record (e.g. one kept by a sweep): ``file = "records.h5"``,
 ``group = "r00003/free_surface"``; its columns are SI (no units to give).
@@ -155,18 +162,18 @@ class Solver(DeckModel):
     gtol: float = Field(default=1e-8, gt=0.0)
 
 
-class FitSpec(DeckModel):
-    """A whole fit file."""
+class Dataset(DeckModel):
+    """One measured record and the run it is compared with (its own deck, window, shift, noise)."""
 
+    name: str = ""
     base: str | None = None
     kind: Literal["run", "subgrid", "python"] | None = None
     model: str | None = None
     set: dict[str, Any] = {}
     measured: Measured
     computed: Computed
-    parameter: list[FitParameter] = Field(min_length=1)
     time_shift: TimeShift | None = None
-    solver: Solver = Solver()
+    sigma: float | None = Field(default=None, gt=0.0)
 
     @field_validator("set")
     @classmethod
@@ -181,21 +188,62 @@ class FitSpec(DeckModel):
         return "python" if self.model else self.kind
 
 
+class FitSpec(DeckModel):
+    """A whole fit file: one record (top-level fields) or several (``[[dataset]]``)."""
+
+    base: str | None = None
+    kind: Literal["run", "subgrid", "python"] | None = None
+    model: str | None = None
+    set: dict[str, Any] = {}
+    measured: Measured | None = None
+    computed: Computed | None = None
+    time_shift: TimeShift | None = None
+    sigma: float | None = Field(default=None, gt=0.0)
+    dataset: list[Dataset] = []
+    parameter: list[FitParameter] = Field(min_length=1)
+    solver: Solver = Solver()
+
+    def datasets(self) -> list[Dataset]:
+        """The records to fit, the single top-level one included."""
+        if self.dataset:
+            return [d if d.name else d.model_copy(update={"name": f"dataset{k}"}) for k, d in enumerate(self.dataset)]
+        return [Dataset.model_construct(name="", base=self.base, kind=self.kind, model=self.model, set=self.set,
+                                        measured=self.measured, computed=self.computed,
+                                        time_shift=self.time_shift, sigma=self.sigma)]
+
+
+def _check_dataset(d: Dataset, where: str, here: Path, path: Path) -> None:
+    if d.kind == "python" and not d.model:
+        raise DeckError(f"{path}: {where}kind = 'python' needs model = 'package.module:function'")
+    if not d.model and not d.base:
+        raise DeckError(f"{path}: {where}base is missing: expected base = 'deck.toml' (relative to the fit file)")
+    if d.base is not None and not (here / d.base).is_file():
+        raise DeckError(f"{path}: {where}base = {d.base!r}: expected a deck file relative to the fit file "
+                        f"(looked for {here / d.base})")
+    if not (here / d.measured.file).is_file():
+        raise DeckError(f"{path}: {where}measured.file = {d.measured.file!r}: expected a file relative to the fit "
+                        f"file (looked for {here / d.measured.file})")
+
+
 def load_fit(path: str | Path) -> tuple[FitSpec, Path]:
     """Read and validate a fit file; returns the spec and the folder it lives in."""
     path = Path(path)
     spec = validate(FitSpec, read_toml(path), str(path))
     here = path.parent
-    if spec.kind == "python" and not spec.model:
-        raise DeckError(f"{path}: kind = 'python' needs model = 'package.module:function'")
-    if not spec.model and not spec.base:
-        raise DeckError(f"{path}: base is missing: expected base = 'deck.toml' (relative to the fit file)")
-    if spec.base is not None and not (here / spec.base).is_file():
-        raise DeckError(f"{path}: base = {spec.base!r}: expected a deck file relative to the fit file "
-                        f"(looked for {here / spec.base})")
-    if not (here / spec.measured.file).is_file():
-        raise DeckError(f"{path}: measured.file = {spec.measured.file!r}: expected a file relative to the fit file "
-                        f"(looked for {here / spec.measured.file})")
+    single = [k for k in ("base", "kind", "model", "measured", "computed", "time_shift", "sigma")
+              if getattr(spec, k) is not None] + (["set"] if spec.set else [])
+    if spec.dataset and single:
+        raise DeckError(f"{path}: {', '.join(single)} at the top level with dataset tables: expected either "
+                        "one record at the top level or every record in its own dataset table")
+    if not spec.dataset:
+        for k in ("measured", "computed"):
+            if getattr(spec, k) is None:
+                raise DeckError(f"{path}: {k} is missing: expected a {k!r} table (or dataset tables)")
+    names = [d.name for d in spec.datasets()]
+    if len(set(names)) != len(names):
+        raise DeckError(f"{path}: dataset names {names}: expected distinct names")
+    for k, d in enumerate(spec.datasets()):
+        _check_dataset(d, f"dataset[{k}]." if spec.dataset else "", here, path)
     cols = [p.column for p in spec.parameter]
     dup = sorted({c for c in cols if cols.count(c) > 1})
     if dup:
