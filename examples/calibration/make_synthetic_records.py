@@ -14,8 +14,10 @@ from shockfriction.sweep.synthetic import synthetic_record, write_csv
 HERE = Path(__file__).resolve().parent
 
 
-def deck_of(fit_file: str, values: dict) -> dict:
+def deck_of(fit_file: str, values: dict, dataset: int | None = None) -> dict:
     spec = read_toml(HERE / fit_file)
+    if dataset is not None:
+        spec = spec["dataset"][dataset]
     base = read_toml(HERE / spec["base"])
     return set_paths(base, {**flatten(spec.get("set", {})), **values})
 
@@ -31,3 +33,11 @@ deck = deck_of("plate_impact_velocity_fit.toml", {"bodies[0].velocity[1]": "250 
 t, v = synthetic_record("run", deck, "fs", "time", "vy", noise=2.0, seed=2009)
 write_csv(HERE / "plate_impact_measured.csv", t + 40e-9, v, "us", "m/s", ("time", "vy"),
           "synthetic: shockfriction run, plate impact, flyer 250 m/s, time shift +40 ns, noise 2 m/s (seed 2009)")
+
+# sub-grid ball under 1 GPa and under 10 GPa: mu0 = 0.2, f = 0.7, noise 5 MPa
+for k, name in enumerate(("low", "high")):
+    deck = deck_of("ball_two_loadings_fit.toml", {"friction.mu0": 0.2, "friction.f": 0.7}, dataset=k)
+    t, tau = synthetic_record("subgrid", deck, "ball", "time", "tau", noise=5e6, seed=2009 + k)
+    write_csv(HERE / f"ball_{name}_measured.csv", t, tau, "us", "MPa", ("time", "tau"),
+              f"synthetic: shockfriction subgrid, ball, {deck['loading'][0]['normal_stress'][0]}, "
+              "mu0 = 0.2, f = 0.7, noise 5 MPa")
