@@ -64,3 +64,21 @@ def test_momentum_is_conserved(result):
     print(f"momentum y {py:.15e} (initial {p0:.15e})")
     assert py == pytest.approx(p0, rel=1e-12)
     assert abs(px) < 1e-12 * p0
+
+
+def test_edge_viscosity_gives_the_same_hugoniot_state(make_strip):
+    """The edge viscosity reduces to the scalar one in 1D: same plateau, energy conserved."""
+    deck = make_strip()
+    deck["viscosity"] = {"kind": "edge"}
+    res = run_dict(deck)
+    al = get_material("Al6061-T6")
+    us = al.eos_c0 + al.eos_s * 125.0
+    t = res.probes["t_s"]
+    sel = (t > 1.2e-6) & (t < 1.6e-6)
+    p = res.probes["mid.p"][sel].mean()
+    print(f"edge viscosity: P = {p / 1e9:.4f} GPa, energy error {res.summary['relative_energy_error']:.1e}")
+    assert p == pytest.approx(al.rho0 * us * 125.0, rel=0.02)
+    assert np.all(res.probes["mid.q"] == 0.0)  # no cell q: the viscosity is in the nodal forces
+    assert res.summary["relative_energy_error"] < 1e-3
+    v = res.probes["fs.vy"][t > 2.1e-6].mean()
+    assert v == pytest.approx(250.0, rel=0.02)

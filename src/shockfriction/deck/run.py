@@ -115,6 +115,7 @@ class Body(DeckModel):
     heat_capacity: Optional[SpecificHeat] = None
     pressure_floor: Optional[Pressure] = None
     velocity: tuple[Velocity, Velocity] = (0.0, 0.0)
+    radial_velocity: Optional[Velocity] = None
     temperature: Annotated[Temperature, Field(gt=0.0)] = 300.0
     mesh: MeshSpec
     boundary: Boundary = Field(default_factory=Boundary)
@@ -154,6 +155,8 @@ class TimeSpec(DeckModel):
 
 class Viscosity(DeckModel):
     """Artificial viscosity (compression only) and hourglass control coefficients."""
+
+    kind: Literal["scalar", "edge"] = "scalar"
 
     quadratic: float = Field(default=2.0, ge=0.0)
     linear: float = Field(default=0.15, ge=0.0)

@@ -74,6 +74,7 @@ class Simulation:
         self.cq = deck.viscosity.quadratic
         self.cl = deck.viscosity.linear
         self.hg = deck.viscosity.hourglass
+        self.qedge = deck.viscosity.kind == "edge"
         threads = deck.threads if threads is None else threads
         self.threads = numba.config.NUMBA_NUM_THREADS if threads == 0 else min(threads, numba.config.NUMBA_NUM_THREADS)
         self.parallel = self.threads > 1
@@ -85,15 +86,17 @@ class Simulation:
         self._vy_old = np.empty(nn)
         self._vx_free = np.empty(nn)
         self._vy_free = np.empty(nn)
+        self._corner = np.zeros((nc, 8))
+        self._vcorner = np.zeros((nc, 8))
+        self._dtcell = np.empty(nc)
+        self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
-            self._corner = np.zeros((nc, 8))
+            numba.set_num_threads(self.threads)
             self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
-            self._dtcell = np.empty(nc)
-            self._errcell = np.zeros(nc, dtype=np.int64)
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
         self._grp = (problem.groups.ptr, problem.groups.nodes)
-        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.sound_speed, self.cfl)
+        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.vx, s.vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
         if deck.time.dt_initial is not None:
             dt0 = min(dt0, deck.time.dt_initial)
         s.dt = min(dt0, self.dt_max, self.t_end)
@@ -107,6 +110,22 @@ class Simulation:
         self.observers: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
 
+    def reinitialize(self) -> None:
+        """After editing the initial state by hand (``state.e``, ``rho``, ``vx``, ...) at t = 0:
+        recompute pressure, temperature, moduli, sound speed, volumes and masses-consistent
+        density, the first time step and the initial energy."""
+        s = self.state
+        if s.cycle != 0:
+            raise RuntimeError("reinitialize() is for the initial state (cycle 0)")
+        K.initial_cell_state(s.mat, s.props, s.isentrope, s.rho, s.e, s.pressure, s.temperature, s.shear_modulus,
+                             s.yield_stress, s.sound_speed, s.eps_p)
+        deck = self.problem.deck
+        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.vx, s.vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
+        if deck.time.dt_initial is not None:
+            dt0 = min(dt0, deck.time.dt_initial)
+        s.dt = min(dt0, self.dt_max, self.t_end)
+        s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
+
     # ------------------------------------------------------------------ hooks
     def register_interface(self, obj: Interface) -> None:
         """Add an interface (slide line, driver) called every cycle after the free velocities."""
@@ -119,6 +138,17 @@ class Simulation:
             f"body {name!r}, cell ({i}, {j}) [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
+    def _forces(self) -> None:
+        """Nodal forces F^n into state.fx, fy (viscous corner forces kept for their heat)."""
+        s = self.state
+        corner = K.corner_forces_parallel if self.parallel else K.corner_forces_serial
+        corner(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+               s.axisymmetric, self.hg, self._corner, self._vcorner, self.qedge, self.cq, self.cl)
+        if self.parallel:
+            K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
+        else:
+            K.scatter_forces(s.conn, self._corner, s.fx, s.fy)
+
     # ------------------------------------------------------------------ one cycle
     def step(self) -> None:
         s = self.state
@@ -127,15 +157,11 @@ class Simulation:
         s.dt_velocity = dtv
         ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
         # 1-2 forces
-        if self.parallel:
-            K.forces_parallel(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho,
-                              s.sound_speed, s.cell_mass, s.e, s.axisymmetric, self.hg, dtv, s.fx, s.fy,
-                              self._corner, self._node_ptr, self._node_corner)
-        else:
-            K.forces_serial(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho,
-                            s.sound_speed, s.cell_mass, s.e, s.axisymmetric, self.hg, dtv, s.fx, s.fy)
+        self._forces()
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
+        en = s.energy
+        before = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
         # 3 free velocities and boundary constraints
         self._vx_old[:] = s.vx
         self._vy_old[:] = s.vy
@@ -156,23 +182,25 @@ class Simulation:
                                                                         + dvy * (self._vy_old + s.vy))))
             s.energy.boundary_work += K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own,
                                                           *self._cons, dtv)
+        # heat of the hourglass / edge-viscosity forces over this velocity step
+        heat = K.viscous_heat_parallel if self.parallel else K.viscous_heat_serial
+        qv = heat(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv, s.cell_mass, s.e)
+        ie += 0.5 * qv
         if s.cycle % self.probe_every == 0:
-            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own), ie)
+            # the exchanges of this step are centred at t^n: half of them count at t^n
+            after = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
+            mid = tuple(0.5 * (a + b) for a, b in zip(before, after))
+            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own),
+                         ie + 0.5 * (after[2] - before[2]), mid)
         # 5 positions
         K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
         # 6 cells
-        if self.parallel:
-            dtn, bad, code = K.update_cells_parallel(
-                s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
-                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
-                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-                self.dvmax, self._dtcell, self._errcell)
-        else:
-            dtn, bad, code = K.update_cells_serial(
-                s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
-                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
-                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-                self.dvmax)
+        update = K.update_cells_parallel if self.parallel else K.update_cells_serial
+        update(s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+               s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+               s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
+               self.dvmax, self._dtcell, self._errcell, self.qedge)
+        dtn, bad, code = K.reduce_time_step(self._dtcell, self._errcell)
         if bad >= 0:
             self._fail(bad, code)
         s.t += dt
@@ -187,14 +215,17 @@ class Simulation:
         s.dt = dtn
 
     # ------------------------------------------------------------------ histories
-    def _record(self, ke: float, ie: float) -> None:
+    def _record(self, ke: float, ie: float, budget: tuple | None = None) -> None:
+        """One history row at t^n; ``budget`` = (boundary work, interface work, interface heat,
+        friction work) at t^n (default: the running totals)."""
         s = self.state
         f = s.geometry_factor
         en = s.energy
+        wbc, wint, qint, fw = budget if budget is not None else (
+            en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
         total = ke + ie
-        err = total - (en.initial + en.boundary_work + en.interface_work + en.interface_heat)
-        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * en.boundary_work, f * en.interface_work,
-                                 f * en.interface_heat, f * en.friction_work, f * err))
+        err = total - (en.initial + wbc + wint + qint)
+        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * err))
         if self.problem.probes:
             row = [s.t]
             for p in self.problem.probes:
@@ -229,10 +260,8 @@ class Simulation:
         """Add the state at the final time (kinetic energy from a half step of the final forces)."""
         s = self.state
         ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
-        e_save = s.e.copy()
         fx, fy = s.fx.copy(), s.fy.copy()
-        K.forces_serial(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
-                        s.cell_mass, s.e, s.axisymmetric, self.hg, 0.0, s.fx, s.fy)
+        self._forces()
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
         self._vx_old[:] = s.vx
@@ -240,7 +269,6 @@ class Simulation:
         vx, vy = s.vx.copy(), s.vy.copy()
         K.advance_velocities(vx, vy, s.fx, s.fy, s.mass, 0.5 * self._dt_prev)
         K.apply_constraints(vx, vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, 0.0)
-        s.e[:] = e_save
         s.fx[:], s.fy[:] = fx, fy
         ke = K.kinetic_energy(vx, vy, s.mass_own)
         vsave = (s.vx, s.vy)
