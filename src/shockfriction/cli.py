@@ -13,6 +13,7 @@ import sys
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 
 from shockfriction import commands
 from shockfriction.errors import DeckError, SimulationError
@@ -42,10 +43,10 @@ def main(argv: list[str] | None = None) -> None:
     try:
         app(args=argv, prog_name="shockfriction")
     except DeckError as exc:
-        err.print(f"[bold red]deck error[/]\n{exc}", highlight=False, soft_wrap=True)
+        err.print(f"[bold red]deck error[/]\n{escape(str(exc))}", highlight=False, soft_wrap=True)
         sys.exit(2)
     except SimulationError as exc:
-        err.print(f"[bold red]run failed[/]\n{exc}", highlight=False, soft_wrap=True)
+        err.print(f"[bold red]run failed[/]\n{escape(str(exc))}", highlight=False, soft_wrap=True)
         sys.exit(3)
 
 

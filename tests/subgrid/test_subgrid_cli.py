@@ -119,7 +119,7 @@ def deck_text(top=None, drop=(), load=LOAD, column=""):
 @pytest.mark.parametrize("text, fragments", [
     (deck_text({"colour": '"red"'}), ["colour", "no such key"]),
     (deck_text(drop=("duration",)), ["duration is missing"]),
-    (deck_text(load=LOAD.replace('"10 GPa"', '"10 m/s"')), ["loading[0].normal_stress[0]", "'10 m/s'", "pressure"]),
+    (deck_text(load=LOAD.replace('"10 GPa"', '"10 m/s"')), ["loading[0].normal_stress[0]", "'10 m/s'", "[length] / [time]", "pressure"]),
     (deck_text(column='[column]\nthickness = "-20 um"\n'), ["column.thickness", "-20 um", "greater than 0"]),
     (deck_text({"T0": '"1300 K"'}), ["T0", "'1300 K'", "below the melting temperature"]),
     (deck_text({"material": '"Unobtainium"'}), ["material", "Unobtainium", "Al5083-H111"]),

@@ -90,13 +90,24 @@ def test_a_batch_equals_the_columns_run_one_by_one():
         assert np.array_equal(sj.theta[0], batch.theta[j])
 
 
-def test_time_step_change_reuses_factors_and_keeps_energy():
-    sg = make(2)
-    for dt in [1e-9] * 10 + [0.5e-9] * 10 + [1e-9] * 10:
+@pytest.mark.parametrize("model", ["thermoelastic", "thermoelastoplastic"])
+def test_time_step_change_reuses_factors_and_keeps_energy(model):
+    sg = make(2, model=model, f=0.35)
+    for dt in [1e-9] * 10 + [0.5e-9] * 10 + [1e-9] * 10 + [0.3e-9] * 5:
         sg.step(5e9, 100.0, 100.0, np.inf, np.inf, 1.0, dt)
-    assert sg.columns.factorisations == 2
-    assert np.allclose(sg.heat_stored, sg.heat_interface, rtol=1e-12)
-    assert np.allclose(sg.friction_work * sg.beta_T, sg.heat_interface, rtol=1e-12)
+        assert np.allclose(sg.heat_stored, sg.heat_interface + sg.heat_plastic, rtol=1e-12)
+        assert np.allclose(sg.friction_work, sg.heat_interface / sg.beta_T + sg.plastic_work, rtol=1e-12)
+    assert sg.columns.factorisations == 3
+    if model == "thermoelastoplastic":
+        assert sg.heat_plastic[0] > 0.0
+
+
+def test_nodes_out_of_contact_may_have_zero_area():
+    sg = make(2)
+    tau, slip = sg.step([-1e9, 0.0], [10.0, -5.0], [10.0, -5.0], 1e-9, 1e-9, 0.0, 1e-9)
+    assert np.all(tau == 0.0) and list(slip) == [10.0, -5.0]
+    with pytest.raises(SimulationError, match="node 1"):
+        sg.step([-1e9, 1e9], 10.0, 10.0, 1e-9, 1e-9, [0.0, 0.0], 1e-9)
 
 
 def test_bad_input_raises_a_simulation_error_naming_node_and_cycle():

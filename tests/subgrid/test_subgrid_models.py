@@ -79,6 +79,9 @@ def test_thermoelastoplastic_first_step_inverts_scg_in_closed_form():
     print(f"\nplastic layer after one step: {layer * 1e6:.3f} um, plastic slip {rate:.2f} m/s")
     # the plastic work of step 1 is deposited as heat in step 2 (Taylor-Quinney 0.9)
     work = math.sqrt(3) * sg.tau[0] * (sg.eps_p[0] @ sg.columns.weights)
+    lag = 0.9 * math.sqrt(3) * sg.tau[0] * sg.eps_p[0].max() / (AL.rho0 * AL.heat_capacity)
+    assert sg.lag_temperature[0] == pytest.approx(lag, rel=1e-12)
+    print(f"lagged plastic heating after step 1: {lag:.2f} K")
     sg.step(10e9, 200.0, 200.0, INF, INF, 1.0, 1e-9)
     assert sg.heat_plastic[0] == pytest.approx(0.9 * work, rel=1e-12)
     # friction work = interface heat / beta_T ... accounts for the slip not taken by the layer

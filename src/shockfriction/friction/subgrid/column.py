@@ -123,6 +123,20 @@ def adiabatic_solve_batched(theta, source_dt, mult, inv_bp, c, active, out):
 
 
 @njit(cache=True)
+def scale_rows(values, factor, out, nonzero):
+    """out = values * factor; nonzero[j] = any value of row j is not 0 (no temporaries)."""
+    ncol, n = values.shape
+    for j in range(ncol):
+        flag = False
+        for i in range(n):
+            v = values[j, i] * factor
+            out[j, i] = v
+            if v != 0.0:
+                flag = True
+        nonzero[j] = flag
+
+
+@njit(cache=True)
 def affine_update(theta_ad, q_in, theta_unit, limit, out):
     """out = theta_ad + q_in theta_unit (eq. 7.70) for every column; return the flat index of the
     first value that is not finite or not below ``limit`` (the melting temperature), else -1."""
@@ -204,6 +218,8 @@ class ThermalColumns:
         self.active = np.zeros(self.n_columns, dtype=np.bool_)  # False: uniform T0, nothing to diffuse
         self._zero_source = np.zeros_like(self.theta)
         self._out = np.empty_like(self.theta)
+        self._src = np.empty_like(self.theta)
+        self._flags = np.zeros(self.n_columns, dtype=np.bool_)
         self.dt = math.nan
         self.factorisations = 0
         self._cache: dict[float, tuple] = {}  # dt -> (mult, inv_bp, c, theta_unit), the last few steps
@@ -239,15 +255,23 @@ class ThermalColumns:
             self._cache.pop(next(iter(self._cache)))
         self._cache[dt] = (self.mult, self.inv_bp, self.c, self.theta_unit)
 
-    def adiabatic(self, dt: float, source: np.ndarray | None = None) -> np.ndarray:
-        """theta_ad (eq. 7.68): the step with zero interface flux; ``source`` is s (W/m^3), (n_columns, n_nodes)."""
+    def adiabatic(self, dt: float, source: np.ndarray | None = None, deposit: np.ndarray | None = None) -> np.ndarray:
+        """theta_ad (eq. 7.68): the step with zero interface flux, shaped (n_columns, n_nodes).
+
+        ``source`` is a volumetric heat source s (W/m^3) over the step, or ``deposit`` an energy
+        density (J/m^3) put in during the step (the lagged plastic heat); at most one of them.
+        The returned array is a buffer reused by the next call.
+        """
         self.prepare(dt)
-        if source is None:
+        if source is None and deposit is None:
             src = self._zero_source
             active = self.active
         else:
-            src = source * (dt / self.rho_c)
-            active = self.active | np.any(source != 0.0, axis=1)
+            values, factor = (source, dt / self.rho_c) if source is not None else (deposit, 1.0 / self.rho_c)
+            src = self._src
+            scale_rows(values, factor, src, self._flags)
+            active = self._flags
+            active |= self.active
         adiabatic_solve_batched(self.theta, src, self.mult, self.inv_bp, self.c, active, self._out)
         return self._out
 

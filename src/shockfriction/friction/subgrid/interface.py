@@ -22,7 +22,7 @@ Inputs of ``step(sigma_n, v_free, slip_prev, m_slave, m_guide, area, dt)``:
     mass of the slave node and of its projection on the guide surface.  ``np.inf`` for a
     rigid partner; both ``np.inf`` imposes the slip (the uncoupled solvers of §7.3.2, §8.2).
 ``area`` (m^2)
-    the slave node's contact area S.
+    the slave node's contact area S (> 0 where ``sigma_n > 0``; 0 is accepted out of contact).
 ``dt`` (s)
     the hydro step (the columns use the same step; factors are reused while it is unchanged).
 
@@ -55,7 +55,9 @@ thermoelastic model), ``flux_in`` (beta_T tau [v], W/m^2 entering the column), `
 tau |[V]^n| dt), ``heat_interface`` (sum of flux_in dt), ``plastic_work`` (sum of sqrt(3) tau
 int d_eps dz), ``heat_plastic`` (plastic heat deposited in the column, beta_Q times the plastic work,
 one step late), ``heat_stored`` (rho c int (theta - T0) dz).  Balances: friction_work =
-heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_plastic.  Per-node profiles:
+heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_plastic.
+``lag_temperature`` (K, ch. 8) is the largest local temperature rise that the lagged plastic heat of
+this step will add in the next one: the size of the lag the thesis asks to check a posteriori (8.47).  Per-node profiles:
 ``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a buffer that the next step
 replaces: copy it to keep it).
 """
@@ -118,7 +120,7 @@ class SubgridInterface:
         self._pending_plastic_heat = np.zeros((n, nn))  # J/m^3, deposited next step (lagged source)
         self._deps = np.zeros((n, nn))
         for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
-                     "friction_work", "heat_interface", "heat_plastic", "plastic_work"):
+                     "friction_work", "heat_interface", "heat_plastic", "plastic_work", "lag_temperature"):
             setattr(self, name, np.zeros(n))
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
@@ -164,8 +166,8 @@ class SubgridInterface:
         when = self._when(cycle, time)
         if not (dt > 0.0 and math.isfinite(dt)):
             raise SimulationError(f"sub-grid step {when}: time step {dt!r} is not positive and finite")
-        bad = ~(np.isfinite(sig) & np.isfinite(vf) & np.isfinite(vp) & (ms > 0) & (mg > 0) & (S > 0)
-                & np.isfinite(S))
+        bad = ~(np.isfinite(sig) & np.isfinite(vf) & np.isfinite(vp) & (ms > 0) & (mg > 0) & (S >= 0)
+                & np.isfinite(S) & ((S > 0) | (sig <= 0)))  # a node out of contact may have no area
         if bad.any():
             j = int(np.argmax(bad))
             raise SimulationError(f"sub-grid step {when}: bad input at node {j}: sigma_n={sig[j]!r}, "
@@ -181,9 +183,8 @@ class SubgridInterface:
         F_N = np.where(in_contact, sig, 0.0)
 
         plastic = self.model == "thermoelastoplastic"
-        source = self._pending_plastic_heat / dt if plastic else None
         deposited = self._pending_plastic_heat @ self.columns.weights if plastic else None
-        theta_ad = self.columns.adiabatic(dt, source)
+        theta_ad = self.columns.adiabatic(dt, deposit=self._pending_plastic_heat if plastic else None)
         unit = self.columns.theta_unit
         tau = self.tau
         q_in = self.flux_in
@@ -221,7 +222,8 @@ class SubgridInterface:
             self.heat_plastic += deposited
             update_hardening(self.eps_p, self._deps, self._hard, self.scg)
             self.plastic_work += SQRT3 * tau * (self._deps @ self.columns.weights)
-            self._pending_plastic_heat[...] = self.beta_Q * SQRT3 * tau[:, None] * self._deps
+            np.multiply(self._deps, (self.beta_Q * SQRT3) * tau[:, None], out=self._pending_plastic_heat)
+            self.lag_temperature[:] = self._pending_plastic_heat.max(axis=1) / self.columns.rho_c
         return tau.copy(), v_half
 
     # ------------------------------------------------------------------ helpers
