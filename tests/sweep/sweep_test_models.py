@@ -30,7 +30,8 @@ def ramp(deck: dict, workdir: Path) -> dict:
     t = np.linspace(0.0, 10 * tau, int(deck.get("n", 201)))
     v = np.where(t > t0, a * (1.0 - np.exp(-(t - t0) / tau)), 0.0)
     (workdir / "scratch.txt").write_text("a run writes here")
-    return {"records": {"free_surface": {"time": t, "velocity": v}}, "summary": {"a_times_tau": a * tau}}
+    return {"records": {"free_surface": {"time": t, "velocity": v}, "rear": {"time": t, "velocity": 0.5 * v}},
+            "summary": {"a_times_tau": a * tau}}
 
 
 def line(deck: dict, workdir: Path) -> dict:

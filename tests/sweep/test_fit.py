@@ -219,3 +219,37 @@ def test_top_level_record_and_dataset_tables_together_exit_2(tmp_path, capsys, m
     assert exc.value.code == 2
     err = " ".join(capsys.readouterr().err.split())
     assert "kind, model, measured, computed, time_shift, set at the top level with dataset tables" in err
+
+
+def test_two_records_of_one_deck_share_its_runs_and_both_constrain_the_fit(tmp_path, models_importable):
+    from shockfriction.sweep.fit import FitProblem
+    from shockfriction.sweep.fitspec import load_fit
+
+    rec = run_deck("python", {"a": 2.0, "tau": "0.8 us", "n": 401}, tmp_path, "sweep_test_models:ramp").records
+    for name in ("free_surface", "rear"):
+        np.savetxt(tmp_path / f"{name}.csv", np.c_[rec[name]["time"] * 1e6, rec[name]["velocity"]],
+                   delimiter=",", header="time,velocity", comments="")
+    block = """
+[[dataset]]
+name = "{name}"
+kind = "python"
+model = "sweep_test_models:ramp"
+[dataset.set]
+n = 401
+[dataset.measured]
+file = "{name}.csv"
+time_unit = "us"
+[dataset.computed]
+record = "{name}"
+"""
+    params = '[[parameter]]\npath = "a"\nbounds = [1.0, 3.0]\n[[parameter]]\npath = "tau"\nbounds = ["0.3 us", "2 us"]\n'
+    (tmp_path / "fit.toml").write_text(block.format(name="free_surface") + block.format(name="rear") + params)
+    spec, here = load_fit(tmp_path / "fit.toml")
+    with ThreadPoolExecutor(2) as ex:
+        prob = FitProblem(spec, here, ex)
+        both = prob.records([prob.x0])[0]
+        assert prob.runs == 1, "one deck, one run, two records"
+        np.testing.assert_array_equal(both[1][1], 0.5 * both[0][1])
+        res = fit(tmp_path / "fit.toml", executor=ex)
+    np.testing.assert_allclose(res.values, [2.0, 0.8], rtol=1e-6)
+    assert res.samples == 2 * 401 and [c.name for c in res.curves] == ["free_surface", "rear"]

@@ -113,7 +113,8 @@ class _Data:
 
     @property
     def keep(self) -> dict:
-        return {"records": [self.record], "scalars": [], "derived": []}
+        # every record: datasets comparing two probes of one deck share its run
+        return {"records": "all", "scalars": [], "derived": []}
 
 
 class FitProblem:
@@ -153,7 +154,7 @@ class FitProblem:
                                    d.computed.value, t_m, y_m, weight, shift))
         self.lo, self.hi, self.x0 = np.array(lo), np.array(hi), np.array(x0)
         self.weighted = any(d.sigma for d in spec.datasets())
-        self.cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self.cache: dict[str, dict] = {}  # run key -> records of the run
         self.history: list[dict] = []
         self.runs = 0
         for ds in self.data:
@@ -177,21 +178,22 @@ class FitProblem:
             for (ds, deck), k in zip(row, krow):
                 if k not in self.cache and k not in todo:
                     task = {"key": k, "kind": ds.kind, "model": ds.model, "deck": deck, "keep": ds.keep}
-                    todo[k] = (ds, deck, self.ex.submit(execute, task))
-        wait([fut for *_, fut in todo.values()])
-        for k, (ds, deck, fut) in todo.items():
-            self.cache[k] = self._unpack(ds, deck, fut.result())
-        return [[self.cache[k] for k in krow] for krow in keys]
+                    todo[k] = (deck, self.ex.submit(execute, task))
+        wait([fut for _, fut in todo.values()])
+        for k, (deck, fut) in todo.items():
+            res = fut.result()
+            self.runs += 1
+            if res["status"] != "ok":
+                raise SimulationError(f"{self.source}: model run failed at {self._describe(deck)}: {res['error']}")
+            self.cache[k] = res["records"]
+        return [[self._pick(ds, self.cache[k]) for (ds, _), k in zip(row, krow)] for row, krow in zip(jobs, keys)]
 
-    def _unpack(self, ds: _Data, deck: dict, res: dict) -> tuple[np.ndarray, np.ndarray]:
-        self.runs += 1
+    def _pick(self, ds: _Data, records: dict) -> tuple[np.ndarray, np.ndarray]:
         where = f"{self.source}: {ds.name + ': ' if ds.name else ''}"
-        if res["status"] != "ok":
-            if res["error"].startswith("KeepError"):
-                raise DeckError(f"{where}computed.record = {ds.record!r}: expected a record the run produces "
-                                f"({res['error']})")
-            raise SimulationError(f"{where}model run failed at {self._describe(deck)}: {res['error']}")
-        rec = res["records"][ds.record]
+        if ds.record not in records:
+            raise DeckError(f"{where}computed.record = {ds.record!r}: expected a record the run produces, "
+                            f"one of {sorted(records)}")
+        rec = records[ds.record]
         for col in (ds.time, ds.value):
             if col not in rec:
                 raise DeckError(f"{where}computed: column {col!r} not in record {ds.record!r}; "
