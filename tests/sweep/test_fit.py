@@ -154,7 +154,7 @@ bounds = [0.0, 1.0]
     (('bounds = ["-300 ns", "300 ns"]', 'bounds = [-3, 3]'), ["time_shift", "expected times with their unit"]),
     (('file = "measured.csv"', 'file = "nothere.csv"'), ["measured.file = 'nothere.csv'", "expected a file"]),
     (('time_unit = "us"', 'time_unit = "parsec/s"'), ["measured", "time_unit"]),
-    (('record = "free_surface"', 'record = "rear"'), ["computed.record = 'rear'", "expected a record the run produces"]),
+    (('record = "free_surface"', 'record = "back"'), ["computed.record = 'back'", "expected a record the run produces"]),
 ])
 def test_bad_fit_files_exit_2_with_field_and_expectation(tmp_path, capsys, models_importable, edit, fragments):
     synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us"}, noise=0.0)
