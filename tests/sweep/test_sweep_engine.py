@@ -136,3 +136,33 @@ def test_killed_sweep_resumes_without_losing_or_recomputing_finished_runs(tmp_pa
     clean = run_sweep(sweep, tmp_path / "clean", workers=2, progress=False)
     strip = lambda rows: [{k: v for k, v in r.items() if k != "seconds"} for r in rows]  # noqa: E731
     assert strip(read_table(res.table)) == strip(read_table(clean.table))
+
+
+def test_the_table_is_refreshed_while_the_sweep_runs(tmp_path, models_importable, monkeypatch):
+    import shockfriction.sweep.engine as engine
+
+    monkeypatch.setattr(engine, "TABLE_REFRESH_S", 0.0)
+    seen = []
+    real = engine.write_table
+
+    def spy(out_dir, runs, units, results):
+        seen.append(sum(1 for r in results.values() if r["status"] == "ok"))
+        return real(out_dir, runs, units, results)
+
+    monkeypatch.setattr(engine, "write_table", spy)
+    sweep = write_sweep(tmp_path)
+    res = run_sweep(sweep, tmp_path / "out", workers=1, progress=False)
+    assert res.ok == 6
+    assert seen == [1, 2, 3, 4, 5, 6, 6], "one refresh per finished run, then the final table"
+
+
+def test_dry_run_validates_and_lists_the_runs_and_runs_nothing(tmp_path, models_importable, capsys):
+    from shockfriction.cli import main
+
+    sweep = write_sweep(tmp_path)
+    with pytest.raises(SystemExit) as exc:
+        main(["sweep", str(sweep), "--out", str(tmp_path / "out"), "--dry-run"])
+    assert exc.value.code == 0
+    out = capsys.readouterr().out
+    assert "6 runs of kind 'python'" in out and "0 finished, 6 to run" in out and "200.0 ns" in out
+    assert not (tmp_path / "out").exists()

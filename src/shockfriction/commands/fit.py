@@ -25,7 +25,13 @@ def register(app: typer.Typer) -> None:
         from shockfriction.sweep.fit import fit as run_fit
         from shockfriction.sweep.fit import write_outputs
 
-        res = run_fit(fit_file, scheduler, workers)
+        err = Console(stderr=True)
+
+        def report(k: int, point: dict) -> None:
+            values = ", ".join(f"{n} = {v:.6g}" for n, v in point.items() if n != "rms")
+            err.print(f"evaluation {k}: {values}: rms {point['rms']:.4g}", highlight=False)
+
+        res = run_fit(fit_file, scheduler, workers, on_evaluation=report)
         out_dir = out or fit_file.parent / f"{fit_file.stem}_fit"
         paths = write_outputs(res, out_dir)
         console = Console()

@@ -1,9 +1,10 @@
 """Run a sweep: plan the runs, skip the finished ones, dispatch the rest, keep every result.
 
 Each finished run is written to the journal as soon as it comes back (see
-:mod:`shockfriction.sweep.journal`), then ``sweep.csv`` and ``records.h5`` are
-rebuilt from the journal when the sweep ends, also when it is interrupted
-(Ctrl-C).  A run that raises is recorded as ``failed`` with its error; a run
+:mod:`shockfriction.sweep.journal`); ``sweep.csv`` is refreshed every
+``TABLE_REFRESH_S`` seconds while the sweep runs, and ``sweep.csv`` and
+``records.h5`` are rebuilt from the journal when the sweep ends, also when it is
+interrupted (Ctrl-C).  A run that raises is recorded as ``failed`` with its error; a run
 lost with its worker (process killed, cluster gone) is left pending and is run
 again by the next invocation.
 """
@@ -11,6 +12,7 @@ again by the next invocation.
 from __future__ import annotations
 
 import json
+import time
 from concurrent.futures import Executor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,11 +23,14 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from shockfriction.deck.base import read_toml
 from shockfriction.sweep.design import RunPoint, build_runs, column_unit
 from shockfriction.sweep.executors import open_executor
-from shockfriction.sweep.journal import finished, write_result
+from shockfriction.sweep.journal import finished, read_summary, result_path, write_result
 from shockfriction.sweep.runners import check_deck, detect_kind
 from shockfriction.sweep.spec import SweepSpec, load_sweep
 from shockfriction.sweep.store import gather, write_records, write_table
 from shockfriction.sweep.worker import execute
+
+
+TABLE_REFRESH_S = 30.0
 
 
 @dataclass
@@ -82,11 +87,12 @@ def run_sweep(sweep_file: str | Path, out_dir: str | Path, scheduler: str | None
     outcome = SweepOutcome(total=len(runs), reused=sum(1 for r in runs if r.key in done))
     keep = spec.keep.model_dump()
     console = Console(stderr=True)
+    table = _Table(out_dir, runs, units, {k: read_summary(result_path(out_dir, k)) for k in done})
     try:
         if todo:
             ctx = open_executor(scheduler, workers) if executor is None else _borrowed(executor)
             with ctx as ex:
-                _dispatch(ex, todo, kind, spec.model, keep, out_dir, outcome, console, progress)
+                _dispatch(ex, todo, kind, spec.model, keep, out_dir, outcome, console, progress, table)
     except KeyboardInterrupt:
         outcome.interrupted = True
     finally:
@@ -97,6 +103,21 @@ def run_sweep(sweep_file: str | Path, out_dir: str | Path, scheduler: str | None
         outcome.table = write_table(out_dir, runs, units, results)
         outcome.records = write_records(out_dir, runs, units, results)
     return outcome
+
+
+class _Table:
+    """``sweep.csv`` kept up to date from the runs' summaries, rewritten at most every TABLE_REFRESH_S."""
+
+    def __init__(self, out_dir: Path, runs: list[RunPoint], units: dict[str, str], by_key: dict[str, dict]):
+        self.out_dir, self.runs, self.units, self.by_key = out_dir, runs, units, by_key
+        self.written = time.monotonic()
+
+    def add(self, res: dict) -> None:
+        self.by_key[res["key"]] = {**res, "records": {}}
+        if time.monotonic() - self.written >= TABLE_REFRESH_S:
+            results = {r.run_id: self.by_key[r.key] for r in self.runs if r.key in self.by_key}
+            write_table(self.out_dir, self.runs, self.units, results)
+            self.written = time.monotonic()
 
 
 class _borrowed:
@@ -113,7 +134,7 @@ class _borrowed:
 
 
 def _dispatch(ex: Executor, todo: dict[str, RunPoint], kind: str, model: str | None, keep: dict,
-              out_dir: Path, outcome: SweepOutcome, console: Console, show: bool) -> None:
+              out_dir: Path, outcome: SweepOutcome, console: Console, show: bool, table: _Table) -> None:
     futures = {ex.submit(execute, {"key": k, "kind": kind, "model": model, "deck": r.deck, "keep": keep}): r
                for k, r in todo.items()}
     columns = (TextColumn("[bold]sweep[/]"), BarColumn(), MofNCompleteColumn(),
@@ -131,6 +152,7 @@ def _dispatch(ex: Executor, todo: dict[str, RunPoint], kind: str, model: str | N
                     bar.advance(task)
                     continue
                 write_result(out_dir, res, run.deck)
+                table.add(res)
                 outcome.computed += 1
                 failed += res["status"] == "failed"
                 bar.update(task, advance=1, failed=failed)

@@ -26,6 +26,7 @@ import json
 from concurrent.futures import Executor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -125,8 +126,10 @@ class FitProblem:
     each divided by its sigma when given.
     """
 
-    def __init__(self, spec: FitSpec, here: Path, executor: Executor, source: str = "fit"):
+    def __init__(self, spec: FitSpec, here: Path, executor: Executor, source: str = "fit",
+                 on_evaluation: Callable[[int, dict], None] | None = None):
         self.spec, self.ex, self.source = spec, executor, source
+        self.on_evaluation = on_evaluation
         self.params = spec.parameter
         self.n_deck = len(self.params)
         self.units = [split_value(p.bounds[0])[1] for p in self.params]
@@ -217,6 +220,8 @@ class FitProblem:
         x = self.x_of(z)
         r = self.residual(self.records([x])[0], x)
         self.history.append({**{n: float(v) for n, v in zip(self.names, x)}, "rms": float(np.sqrt(np.mean(r**2)))})
+        if self.on_evaluation is not None:
+            self.on_evaluation(len(self.history), self.history[-1])
         return r
 
     def jac(self, z: np.ndarray) -> np.ndarray:
@@ -275,17 +280,21 @@ def covariance(J: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, list[bool], in
 
 
 def fit(fit_file: str | Path, scheduler: str | None = None, workers: int | None = None,
-        executor: Executor | None = None) -> FitResult:
-    """Run the fit described by ``fit_file`` and return its result (see the module docstring)."""
+        executor: Executor | None = None, on_evaluation: Callable[[int, dict], None] | None = None) -> FitResult:
+    """Run the fit described by ``fit_file`` and return its result (see the module docstring).
+
+    ``on_evaluation(k, point)`` is called after each residual evaluation with the
+    parameter values and the residual rms (for progress reports).
+    """
     spec, here = load_fit(fit_file)
     if executor is None:
         with open_executor(scheduler, workers) as ex:
-            return _solve(spec, here, ex, str(fit_file))
-    return _solve(spec, here, executor, str(fit_file))
+            return _solve(spec, here, ex, str(fit_file), on_evaluation)
+    return _solve(spec, here, executor, str(fit_file), on_evaluation)
 
 
-def _solve(spec: FitSpec, here: Path, ex: Executor, source: str) -> FitResult:
-    prob = FitProblem(spec, here, ex, source)
+def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=None) -> FitResult:
+    prob = FitProblem(spec, here, ex, source, on_evaluation)
     z0 = (prob.x0 - prob.lo) / (prob.hi - prob.lo)
     s = spec.solver
     sol = least_squares(prob.fun, z0, jac=prob.jac, bounds=(0.0, 1.0), method="trf", x_scale=1.0,

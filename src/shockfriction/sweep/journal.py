@@ -61,6 +61,17 @@ def read_result(path: Path) -> dict:
     return out
 
 
+def read_summary(path: Path) -> dict:
+    """One run's status, error, time and scalars, without its records (for the table)."""
+    with h5py.File(path, "r") as h5:
+        out = {k: h5.attrs[k] for k in ("key", "status", "error", "seconds")}
+        out = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in out.items()}
+        out["seconds"] = float(out["seconds"])
+        out["scalars"] = {k: float(v) for k, v in h5["scalars"].attrs.items()}
+    out["records"] = {}
+    return out
+
+
 def finished(out_dir: Path, retry_failed: bool = False) -> dict[str, str]:
     """``{key: status}`` of the runs already in the journal (failed ones left out if ``retry_failed``)."""
     runs = Path(out_dir) / "runs"
