@@ -13,7 +13,7 @@ def ramp(deck: dict, workdir: Path) -> dict:
     """A free-surface-like record v(t) = a * (1 - exp(-t / tau)) for t > t0, with scalars.
 
     deck: {"a": float, "tau": "<time>", "t0": "<time>", "n": int, "fail_above": float?,
-           "sleep": float?, "marker_dir": str?}
+           "die_at": float?, "sleep": float?, "marker_dir": str?}
     """
     from shockfriction.units import to_si
 
@@ -23,6 +23,8 @@ def ramp(deck: dict, workdir: Path) -> dict:
     if deck.get("sleep"):
         time.sleep(float(deck["sleep"]))
     a = float(deck["a"])
+    if "die_at" in deck and a == float(deck["die_at"]):
+        os._exit(1)  # the worker process dies (as a segfault or an OOM kill would)
     if "fail_above" in deck and a > float(deck["fail_above"]):
         raise RuntimeError(f"a = {a} above {deck['fail_above']}: the model refuses")
     tau = to_si(deck["tau"], "time")

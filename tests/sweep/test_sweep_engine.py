@@ -166,3 +166,17 @@ def test_dry_run_validates_and_lists_the_runs_and_runs_nothing(tmp_path, models_
     out = capsys.readouterr().out
     assert "6 runs of kind 'python'" in out and "0 finished, 6 to run" in out and "200.0 ns" in out
     assert not (tmp_path / "out").exists()
+
+
+def test_a_run_whose_worker_dies_stays_pending_and_the_command_exits_1(tmp_path, models_importable, capsys):
+    from shockfriction.cli import main
+
+    sweep = write_sweep(tmp_path, values="[1.0, 2.0]", extra="die_at = 2.0")
+    with pytest.raises(SystemExit) as exc:
+        main(["sweep", str(sweep), "--out", str(tmp_path / "out"), "--workers", "1", "--quiet"])
+    assert exc.value.code == 1
+    err = " ".join(capsys.readouterr().err.split())
+    assert "lost with its worker, left pending" in err and "BrokenProcessPool" in err
+    table = read_table(tmp_path / "out" / "sweep.csv")
+    assert [r["status"] for r in table if r["a"] == "1.0"] == ["ok", "ok"], "runs before the death are kept"
+    assert [r["status"] for r in table if r["a"] == "2.0"] == ["pending", "pending"]

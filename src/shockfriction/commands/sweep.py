@@ -32,8 +32,10 @@ def register(app: typer.Typer) -> None:
         res = run_sweep(sweep_file, out, scheduler, workers, retry_failed, progress=not quiet)
         console.print(f"{res.total} runs: {res.ok} ok, {res.failed} failed, {res.pending} pending "
                       f"({res.computed} computed now, {res.reused} already finished)")
-        for line in res.lost:
+        for line in res.lost[:5]:
             console.print(f"[yellow]lost with its worker, left pending[/]: {line}", highlight=False)
+        if len(res.lost) > 5:
+            console.print(f"... and {len(res.lost) - 5} more runs lost with their workers", highlight=False)
         console.print(f"table: {res.table}\nrecords: {res.records}")
         if res.interrupted:
             console.print("[yellow]interrupted[/]: rerun the same command to resume")

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import json
 import time
-from concurrent.futures import Executor, as_completed
+from concurrent.futures import FIRST_COMPLETED, Executor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -142,20 +142,23 @@ def _dispatch(ex: Executor, todo: dict[str, RunPoint], kind: str, model: str | N
     with Progress(*columns, console=console, disable=not show) as bar:
         task = bar.add_task("runs", total=len(futures), failed=0)
         failed = 0
+        pending = set(futures)
         try:
-            for fut in as_completed(futures):
-                run = futures[fut]
-                try:
-                    res = fut.result()
-                except Exception as exc:  # the worker itself died: the run stays pending
-                    outcome.lost.append(f"{run.run_id}: {type(exc).__name__}: {exc}")
-                    bar.advance(task)
-                    continue
-                write_result(out_dir, res, run.deck)
-                table.add(res)
-                outcome.computed += 1
-                failed += res["status"] == "failed"
-                bar.update(task, advance=1, failed=failed)
+            while pending:
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    run = futures.pop(fut)  # drop the future: a Dask worker may then free the result
+                    try:
+                        res = fut.result()
+                    except Exception as exc:  # the worker itself died: the run stays pending
+                        outcome.lost.append(f"{run.run_id}: {type(exc).__name__}: {exc}")
+                        bar.advance(task)
+                        continue
+                    write_result(out_dir, res, run.deck)
+                    table.add(res)
+                    outcome.computed += 1
+                    failed += res["status"] == "failed"
+                    bar.update(task, advance=1, failed=failed)
         except KeyboardInterrupt:
             for fut in futures:
                 fut.cancel()
