@@ -253,3 +253,45 @@ record = "{name}"
         res = fit(tmp_path / "fit.toml", executor=ex)
     np.testing.assert_allclose(res.values, [2.0, 0.8], rtol=1e-6)
     assert res.samples == 2 * 401 and [c.name for c in res.curves] == ["free_surface", "rear"]
+
+
+def test_measured_record_read_from_a_sweeps_records_file(tmp_path, models_importable):
+    """Any record a run produces can be the measurement: here one kept by a sweep in records.h5."""
+    from shockfriction.sweep.engine import run_sweep
+
+    (tmp_path / "sweep.toml").write_text("""
+kind = "python"
+model = "sweep_test_models:ramp"
+[set]
+n = 301
+t0 = "0 s"
+[[parameter]]
+path = "tau"
+values = ["0.5 us", "0.8 us"]
+[[parameter]]
+path = "a"
+values = [2.0]
+""")
+    with ThreadPoolExecutor(2) as ex:
+        run_sweep(tmp_path / "sweep.toml", tmp_path / "sw", executor=ex, progress=False)
+        (tmp_path / "fit.toml").write_text("""
+kind = "python"
+model = "sweep_test_models:ramp"
+[set]
+n = 301
+t0 = "0 s"
+[measured]
+file = "sw/records.h5"
+group = "r00001/free_surface"
+[computed]
+record = "free_surface"
+[[parameter]]
+path = "a"
+bounds = [1.0, 3.0]
+[[parameter]]
+path = "tau"
+bounds = ["0.3 us", "2 us"]
+""")
+        res = fit(tmp_path / "fit.toml", executor=ex)
+    np.testing.assert_allclose(res.values, [2.0, 0.8], rtol=1e-6)
+    assert res.rms < 1e-9
