@@ -5,7 +5,8 @@ Residuals, one per measured sample t_i inside the window, for each dataset k:
     r_i(p, s_k) = (y_c(t_i - s_k; p) - y_m(t_i)) / sigma_k      (sigma_k = 1 SI unit if not given)
 
 with y_c the computed record linearly interpolated (held constant outside the
-computed time span) and s the time shift (measured time = computed time + s).
+computed time span) and s_k the dataset's time shift (measured time = computed
+time + s_k).
 scipy.optimize.least_squares (trust-region reflective) works on variables
 scaled to their bounds, z = (x - lo) / (hi - lo) in [0, 1].  The Jacobian is
 made by central (or forward) differences of step h in z; the model runs of one

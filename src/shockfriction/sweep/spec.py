@@ -60,7 +60,10 @@ class Parameter(DeckModel):
     n: int | None = Field(default=None, ge=1)
     scale: Literal["linear", "log"] = "linear"
 
-    _path_ok = field_validator("path")(classmethod(lambda cls, p: _check_path(p)))
+    @field_validator("path")
+    @classmethod
+    def _path_readable(cls, p):
+        return _check_path(p)
 
     @field_validator("values")
     @classmethod
