@@ -295,3 +295,17 @@ bounds = ["0.3 us", "2 us"]
         res = fit(tmp_path / "fit.toml", executor=ex)
     np.testing.assert_allclose(res.values, [2.0, 0.8], rtol=1e-6)
     assert res.rms < 1e-9
+
+
+def test_fit_command_prints_the_table_and_writes_report_plot_and_records(tmp_path, models_importable, capsys):
+    synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us", "t0": "150 ns"}, noise=0.02)
+    (tmp_path / "fit.toml").write_text(RAMP_FIT)
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(tmp_path / "fit.toml"), "--out", str(tmp_path / "out"), "--workers", "2"])
+    assert exc.value.code == 0
+    out = capsys.readouterr()
+    assert "time_shift" in out.out and "residual rms" in out.out and "evaluation 1:" in out.err
+    for name in ("fit.json", "fit.png", "computed.csv", "evaluations.csv"):
+        assert (tmp_path / "out" / name).stat().st_size > 0
+    report = json.loads((tmp_path / "out" / "fit.json").read_text())
+    assert report["success"] and report["parameters"]["a"]["value"] == pytest.approx(2.0, rel=0.01)

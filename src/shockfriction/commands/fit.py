@@ -12,8 +12,8 @@ def register(app: typer.Typer) -> None:
     @app.command("fit")
     def fit(
         fit_file: Path = typer.Argument(..., help="fit file (TOML): deck, measured record, parameters and bounds"),
-        out: Optional[Path] = typer.Option(None, "--out", help="output folder (default: <fit file stem>_fit "
-                                           "next to the fit file): fit.json, fit.png, computed.csv"),
+        out: Optional[Path] = typer.Option(None, "--out", help="output folder (default: out/<fit file stem>): "
+                                           "fit.json, fit.png, computed.csv, evaluations.csv"),
         scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786"),
         workers: Optional[int] = typer.Option(None, "--workers", help="local pool size (default: all cores); "
                                               "with --scheduler, wait for this many Dask workers"),
@@ -32,7 +32,7 @@ def register(app: typer.Typer) -> None:
             err.print(f"evaluation {k}: {values}: rms {point['rms']:.4g}", highlight=False)
 
         res = run_fit(fit_file, scheduler, workers, on_evaluation=report)
-        out_dir = out or fit_file.parent / f"{fit_file.stem}_fit"
+        out_dir = out or Path("out") / fit_file.stem
         paths = write_outputs(res, out_dir)
         console = Console()
         table = Table(title=f"fit of {fit_file.name}: {res.message}")
