@@ -48,16 +48,16 @@ def test_piston_driven_shock_in_an_ideal_gas():
 
 
 class Brake:
-    """A test interface: removes a fraction of every node's velocity and puts the lost
-    kinetic energy into the first cell as heat (like friction with heating)."""
+    """A test interface: a drag impulse -rate dt v on every node; the lost kinetic energy goes
+    into the first cell as heat (like friction with heating)."""
 
-    def __init__(self, frac):
-        self.frac = frac
+    def __init__(self, rate):
+        self.rate = rate
 
     def apply(self, state, dt, t, cycle):
         v_old_x, v_old_y = state.vx.copy(), state.vy.copy()
-        state.vx *= 1 - self.frac
-        state.vy *= 1 - self.frac
+        state.vx *= 1 - self.rate * dt
+        state.vy *= 1 - self.rate * dt
         lost = 0.5 * np.sum(state.mass_own * (v_old_x**2 + v_old_y**2 - state.vx**2 - state.vy**2))
         state.e[0] += lost / state.cell_mass[0]
         state.energy.interface_heat += lost
@@ -71,7 +71,7 @@ def test_interface_hook_energy_bookkeeping():
                         "mesh": {"corners": [["0 mm", "0 mm"], ["2 mm", "0 mm"], ["2 mm", "2 mm"], ["0 mm", "2 mm"]],
                                  "nx": 4, "ny": 4}}]}
     sim = prepare(deck)
-    sim.register_interface(Brake(3e-3))
+    sim.register_interface(Brake(1e5))  # 1/s
     res = run_simulation(sim)
     e = res.energy
     print(f"kinetic {e['kinetic'][0]:.4g} -> {e['kinetic'][-1]:.4g} J/m, interface work "
