@@ -14,7 +14,7 @@ Jacobian go to the executor together, so they run in parallel.  The shift
 column needs no run: it is differenced on the interpolated record.
 
 Uncertainty (Gauss-Newton, at the optimum): s^2 = sum r_i^2 / (m - n),
-Cov = s^2 (J^T J)^-1 with J = dr/dx, sigma_k = sqrt(Cov_kk).  A direction
+Cov = s^2 (J^T J)^-1 with J = dr/dx, sigma(p_j) = sqrt(Cov_jj).  A direction
 along which J^T J is singular (a parameter the record does not determine, e.g.
 f when the Coulomb branch of the friction law is everywhere active) gets
 sigma = inf and is reported as not identifiable.
