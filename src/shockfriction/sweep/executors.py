@@ -13,7 +13,8 @@ would bring a scheduler, nannies and a dashboard port for no gain on one machine
 
 ``--scheduler ADDRESS``: a ``dask.distributed.Client`` connected to that
 scheduler, used through ``Client.get_executor()``; ``--workers N`` then waits
-until N workers have joined.
+until N workers have joined.  The workers must be able to import
+``shockfriction`` (and, for ``kind = "python"``, the model's module).
 """
 
 from __future__ import annotations
