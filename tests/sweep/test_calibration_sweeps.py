@@ -9,8 +9,10 @@ import h5py
 import numpy as np
 import pytest
 
+from shockfriction.deck.base import read_toml
 from shockfriction.materials.library import get_material
 from shockfriction.sweep.engine import run_sweep
+from shockfriction.sweep.paths import set_paths
 
 ROOT = Path(__file__).resolve().parents[2]
 BALL = ROOT / "examples" / "subgrid" / "ball_al_200ms.toml"
@@ -142,3 +144,15 @@ values = [0.1, -0.1]
     err = " ".join(capsys.readouterr().err.split())
     assert "run r00001" in err and "friction.mu0 = -0.1: expected" in err and "greater than or equal to 0" in err
     assert not (tmp_path / "out" / "runs").exists()
+
+
+def test_hydro_scalars_are_deterministic_and_carry_no_timings(tmp_path):
+    from shockfriction.sweep.runners import run_deck
+
+    deck = set_paths(read_toml(PLATE), {"time.end": "0.5 us", "output.field_interval": "10 us"})
+    a, b = run_deck("run", deck, tmp_path), run_deck("run", deck, tmp_path)
+    assert a.summary == b.summary and "cycles" in a.summary and "wall_time_s" not in a.summary
+    assert set(a.records) == {"fs", "mid", "energy"} and set(a.records["fs"]) == {"time", "vy"}
+    for name in a.records:
+        for col in a.records[name]:
+            np.testing.assert_array_equal(a.records[name][col], b.records[name][col])

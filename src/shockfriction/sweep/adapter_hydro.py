@@ -6,7 +6,9 @@ keeps what it needs in memory; fields are not written).  The deck's own
 worker processes.  Records, SI units: one per probe, named as the probe, with
 ``time`` (s) and its quantities (``fs`` -> ``{"time", "vy"}``), and ``energy``
 (``time`` and the energy-budget columns).  Summary: the run summary's numbers
-(``cycles``, ``final_time_s``, ``relative_energy_error``, ``mass_kg`` ...).
+(``cycles``, ``final_time_s``, ``relative_energy_error``, ``mass_kg`` ...),
+except the timings: a run's results are a pure function of its deck, and the
+sweep table has its own ``seconds`` column.
 """
 
 from __future__ import annotations
@@ -14,6 +16,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from shockfriction.deck.base import validate
+
+
+TIMING = {"wall_time_s", "total_wall_time_s", "zone_cycles_per_second", "threads"}
 
 
 def looks_like(deck: dict) -> bool:
@@ -40,5 +45,5 @@ def run(deck: dict, workdir: Path) -> dict:
         records.setdefault(probe, {"time": t})[quantity] = values
     records["energy"] = {("time" if k == "t_s" else k): v for k, v in res.energy.items()}
     summary = {k: float(v) for k, v in res.summary.items()
-               if isinstance(v, (int, float)) and not isinstance(v, bool) and v is not None}
+               if isinstance(v, (int, float)) and not isinstance(v, bool) and k not in TIMING}
     return {"records": records, "summary": summary}
