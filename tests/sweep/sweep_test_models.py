@@ -41,3 +41,9 @@ def line(deck: dict, workdir: Path) -> dict:
     t = np.linspace(0.0, 1.0, 101)
     float(deck.get("c", 0.0))
     return {"records": {"r": {"time": t, "value": float(deck["a"]) + float(deck["b"]) * t}}}
+
+
+def two_wells(deck: dict, workdir: Path) -> dict:
+    """y(t) = sin(p t) on t in [0, 10]: the misfit in p has many local minima."""
+    t = np.linspace(0.0, 10.0, 201)
+    return {"records": {"r": {"time": t, "value": np.sin(float(deck["p"]) * t)}}}

@@ -31,6 +31,7 @@ from typing import Callable
 
 import numpy as np
 from scipy.optimize import least_squares
+from scipy.stats import qmc
 
 from shockfriction.deck.base import read_toml
 from shockfriction.errors import DeckError, SimulationError
@@ -294,10 +295,27 @@ def fit(fit_file: str | Path, scheduler: str | None = None, workers: int | None 
     return _solve(spec, here, executor, str(fit_file), on_evaluation)
 
 
+def best_start(prob: FitProblem, z0: np.ndarray, starts: int, seed: int) -> tuple[np.ndarray, list[float]]:
+    """The best of z0 and ``starts - 1`` Latin-hypercube points of the deck parameters (shifts at z0)."""
+    zs = [z0]
+    if starts > 1:
+        u = qmc.LatinHypercube(d=prob.n_deck, seed=seed).random(starts - 1)
+        for row in u:
+            z = z0.copy()
+            z[: prob.n_deck] = row
+            zs.append(z)
+    xs = [prob.x_of(z) for z in zs]
+    recs = prob.records(xs)  # one parallel batch
+    costs = [float(np.sum(prob.residual(r, x) ** 2)) for r, x in zip(recs, xs)]
+    return zs[int(np.argmin(costs))], costs
+
+
 def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=None) -> FitResult:
     prob = FitProblem(spec, here, ex, source, on_evaluation)
     z0 = (prob.x0 - prob.lo) / (prob.hi - prob.lo)
     s = spec.solver
+    if s.starts > 1:
+        z0, _ = best_start(prob, z0, s.starts, s.seed)
     sol = least_squares(prob.fun, z0, jac=prob.jac, bounds=(0.0, 1.0), method="trf", x_scale=1.0,
                         max_nfev=s.max_evaluations, xtol=s.xtol, ftol=s.ftol, gtol=s.gtol)
     x = prob.x_of(sol.x)

@@ -28,6 +28,7 @@ Example::
     max_evaluations = 40               # least_squares max_nfev
     difference = "central"             # Jacobian by central or forward differences
     step = 0.01                        # difference step, as a fraction of each bound interval
+    starts = 1                         # > 1: start from the best of this many points (LHS, seed)
 
 Several records at once (shots at several velocities, several probes): the fitted
 parameters are shared, each ``[[dataset]]`` has its own ``name``, ``base``, ``set``,
@@ -152,9 +153,16 @@ class Computed(DeckModel):
 
 
 class Solver(DeckModel):
-    """scipy.optimize.least_squares settings (method 'trf', variables scaled to their bounds)."""
+    """scipy.optimize.least_squares settings (method 'trf', variables scaled to their bounds).
+
+    ``starts`` > 1: the residual is first evaluated at the initial point and at
+    ``starts - 1`` Latin-hypercube points of the parameter box (one parallel batch),
+    and the solver starts from the best of them (against local minima).
+    """
 
     max_evaluations: int = Field(default=50, ge=1)
+    starts: int = Field(default=1, ge=1, le=10000)
+    seed: int = 0
     difference: Literal["central", "forward"] = "central"
     step: float = Field(default=0.01, gt=0.0, lt=0.5)
     xtol: float = Field(default=1e-6, gt=0.0)
