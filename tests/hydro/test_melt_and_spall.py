@@ -1,7 +1,6 @@
 """Melting clamp through the cycle (SCG: no deviator at T >= T_F) and the pressure floor."""
 
 import numpy as np
-import pytest
 
 from shockfriction.hydro.api import prepare, run_dict, run_simulation
 from shockfriction.materials.library import get_material

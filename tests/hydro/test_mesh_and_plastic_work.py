@@ -76,3 +76,22 @@ def test_uniaxial_strain_plastic_strain_and_energy_balance():
     assert e["total"][-1] - e["total"][0] == pytest.approx(e["boundary_work"][-1], rel=1e-3)
     # the plastic work Y eps_p heated the cell: T exceeds the isentropic temperature by about Y eps_p/(rho c)
     assert s.temperature[0] - 300.0 > 0.5 * y * s.eps_p[0] / (s.rho[0] * 885.0)
+
+
+def test_side_geometry_areas_and_normals():
+    """Nodal areas of a side sum to its length (plane strain) or to int r ds (r-z: the lateral
+    area of a cylinder / the disc of a face per radian); normals point outwards."""
+    from shockfriction.hydro.sides import side_geometry
+
+    blk = Block.from_outline([[0, 0], [2, 0], [2, 3], [0, 3]], 4, 6)
+    mesh = Mesh(["a"], [blk])
+    right = side_geometry(mesh.x, mesh.y, mesh.side_nodes("a", "right"), False)
+    assert right.node_area.sum() == pytest.approx(3.0, rel=1e-14)
+    np.testing.assert_allclose(right.node_normal, [[1.0, 0.0]] * 7, atol=1e-14)
+    top = side_geometry(mesh.x, mesh.y, mesh.side_nodes("a", "top"), True)
+    assert top.node_area.sum() == pytest.approx(2.0**2 / 2, rel=1e-14)  # int_0^2 r dr
+    np.testing.assert_allclose(top.node_normal, [[0.0, 1.0]] * 5, atol=1e-14)
+    assert top.node_area[-1] == pytest.approx(0.5 * 0.5 / 6, rel=1e-14)  # axis node: int N r ds
+    side = side_geometry(mesh.x, mesh.y, mesh.side_nodes("a", "right"), True)
+    assert side.node_area.sum() == pytest.approx(2.0 * 3.0, rel=1e-14)  # r L
+    np.testing.assert_allclose(side.tangent, [[0.0, 1.0]] * 6, atol=1e-14)

@@ -42,6 +42,7 @@ def test_point_probe_follows_the_nearest_node_and_cell(make_strip):
 @pytest.mark.parametrize("name, check", [
     ("pressure_shear_strip.toml", lambda r: r.probes["fs.vx"].max() > 40.0),
     ("taylor_anvil_cu.toml", lambda r: 0.6 < r.probes["top.y"][-1] / 25.4e-3 < 0.75),
+    ("cone_impact_axi.toml", lambda r: r.probes["tip.vy"].max() > 40.0),
 ])
 def test_examples_run(name, check, tmp_path):
     res = run(EXAMPLES / name, tmp_path)

@@ -116,6 +116,7 @@ class Simulation:
         self.probe_rows: list[tuple] = []
         self.probe_columns = [f"{p.name}.{q}" for p in problem.probes for q in p.quantities]
         self.probe_every = deck.output.probe_every
+        self._getters = [self._probe_getter(q, p.index) for p in problem.probes for q in p.quantities]
         self.observers: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
 
@@ -245,9 +246,9 @@ class Simulation:
         self._dt_prev = dt
         dtn = min(dtn, self.dt_growth * dt, self.dt_max)
         remaining = self.t_end - s.t
-        if dtn > remaining:
+        if dtn >= remaining * (1.0 - 1e-9):
             dtn = remaining
-        elif dtn > 0.5 * remaining:  # avoid a sliver of a last step
+        elif remaining - dtn < 0.1 * dtn:  # avoid a sliver of a last step: two equal ones
             dtn = 0.5 * remaining
         s.dt = dtn
 
@@ -263,35 +264,29 @@ class Simulation:
         total = ke + ie
         err = total - (en.initial + wbc + wint + qint)
         self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * err))
-        if self.problem.probes:
-            row = [s.t]
-            for p in self.problem.probes:
-                i = p.index
-                for qn in p.quantities:
-                    row.append(self._probe_value(qn, i))
-            self.probe_rows.append(tuple(row))
+        if self._getters:
+            self.probe_rows.append((s.t, *[float(g()) for g in self._getters]))
         for obs in self.observers:
             obs(self)
 
-    def _probe_value(self, qn: str, i: int) -> float:
+    def _probe_getter(self, qn: str, i: int) -> Callable[[], float]:
+        """A function returning probe quantity ``qn`` of node/cell ``i`` at t^n."""
         s = self.state
-        if qn == "vx":
-            return 0.5 * (self._vx_old[i] + s.vx[i])
-        if qn == "vy":
-            return 0.5 * (self._vy_old[i] + s.vy[i])
-        if qn == "x":
-            return s.x[i]
-        if qn == "y":
-            return s.y[i]
-        ptot = s.pressure[i] + s.q[i]
-        szz = -(s.sxx[i] + s.syy[i])
-        table = {
-            "p": s.pressure[i], "q": s.q[i], "sxx": s.sxx[i], "syy": s.syy[i], "sxy": s.sxy[i], "szz": szz,
-            "sigma_xx": s.sxx[i] - ptot, "sigma_yy": s.syy[i] - ptot, "sigma_xy": s.sxy[i],
-            "sigma_zz": szz - ptot, "rho": s.rho[i], "e": s.e[i], "T": s.temperature[i], "eps_p": s.eps_p[i],
-            "Y": s.yield_stress[i], "G": s.shear_modulus[i],
+        node = {"vx": lambda: 0.5 * (self._vx_old[i] + s.vx[i]), "vy": lambda: 0.5 * (self._vy_old[i] + s.vy[i]),
+                "x": lambda: s.x[i], "y": lambda: s.y[i]}
+        if qn in node:
+            return node[qn]
+        cell = {
+            "p": lambda: s.pressure[i], "q": lambda: s.q[i], "sxx": lambda: s.sxx[i], "syy": lambda: s.syy[i],
+            "sxy": lambda: s.sxy[i], "szz": lambda: -(s.sxx[i] + s.syy[i]),
+            "sigma_xx": lambda: s.sxx[i] - s.pressure[i] - s.q[i],
+            "sigma_yy": lambda: s.syy[i] - s.pressure[i] - s.q[i],
+            "sigma_xy": lambda: s.sxy[i],
+            "sigma_zz": lambda: -(s.sxx[i] + s.syy[i]) - s.pressure[i] - s.q[i],
+            "rho": lambda: s.rho[i], "e": lambda: s.e[i], "T": lambda: s.temperature[i], "eps_p": lambda: s.eps_p[i],
+            "Y": lambda: s.yield_stress[i], "G": lambda: s.shear_modulus[i],
         }
-        return float(table[qn])
+        return cell[qn]
 
     def record_final(self) -> None:
         """The state at the end time as the last history row: the forces at t^N and the velocity

@@ -26,15 +26,14 @@ import numpy as np
 from numba import njit, prange
 
 from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_s, temperature
-from shockfriction.hydro.geometry import axi_volume, bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area
+from shockfriction.hydro.geometry import (
+    axi_volume, bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area,
+)
 from shockfriction.hydro.matprops import (
-    EOS_IDEAL_GAS, STRENGTH_EPP, P_C0, P_CV, P_EOS, P_G0, P_G_CONST, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_PMIN, P_RHO0, P_S,
-    P_SCG, P_STRENGTH, P_T0, P_Y0, STRENGTH_NONE,
+    EOS_IDEAL_GAS, P_C0, P_CV, P_EOS, P_G0, P_G_CONST, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_PMIN, P_RHO0, P_S,
+    P_SCG, P_STRENGTH, P_T0, P_Y0, STRENGTH_EPP, STRENGTH_NONE,
 )
-from shockfriction.hydro.plasticity import (
-    radial_return_s, rotate_deviator, shear_modulus_and_ratio, shear_modulus_and_ratio_s, yield_stress,
-    yield_stress_s,
-)
+from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
 
 ERR_NONE = 0
