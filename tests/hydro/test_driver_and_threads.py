@@ -98,3 +98,31 @@ def test_parallel_kernels_match_serial():
         scale = max(np.abs(u).max(), 1e-30)
         assert np.abs(u - v).max() <= 1e-9 * scale, name
     assert a.eps_p.max() > 0
+
+
+class Recorder:
+    """An interface with the optional hooks: counts after_step calls, is closed at the end."""
+
+    def __init__(self):
+        self.applied, self.after, self.closed, self.times = 0, 0, False, []
+
+    def apply(self, state, dt, t, cycle):
+        self.applied += 1
+
+    def after_step(self, state, dt, t, cycle):
+        self.after += 1
+        self.times.append((t, cycle))
+
+    def close(self):
+        self.closed = True
+
+
+def test_optional_interface_hooks(make_strip, tmp_path):
+    rec = Recorder()
+    sim = prepare(make_strip(ny_flyer=4, ny_target=10, end="0.3 us"), interfaces=[rec])
+    res = run_simulation(sim, tmp_path)
+    assert sim.out_dir == tmp_path
+    assert rec.closed
+    assert rec.after == res.state.cycle
+    assert rec.applied == res.state.cycle + 1  # and the final record's velocity update
+    assert rec.times[-1] == (res.state.t, res.state.cycle)

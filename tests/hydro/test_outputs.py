@@ -49,3 +49,12 @@ def test_examples_run(name, check, tmp_path):
     assert res.summary["completed"]
     assert check(res)
     assert res.summary["relative_energy_error"] < 5e-3
+
+
+def test_max_cycles_stops_and_says_so(make_strip, tmp_path):
+    deck = make_strip(ny_flyer=4, ny_target=10)
+    deck["time"]["max_cycles"] = 7
+    res = run_dict(deck, tmp_path)
+    assert res.state.cycle == 7 and not res.summary["completed"]
+    import json
+    assert json.loads((tmp_path / "summary.json").read_text())["completed"] is False

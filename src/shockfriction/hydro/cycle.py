@@ -2,7 +2,7 @@
 
 One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 
-1. nodal forces F^n from sigma^n at x^n (+ hourglass on v^{n-1/2});
+1. nodal forces F^n from sigma^n at x^n (+ hourglass and edge viscosity on v^{n-1/2});
 2. node groups (ties, periodic sides) share their summed force;
 3. free velocities v* = v^{n-1/2} + dt^n F/m, boundary constraints applied;
 4. **interface hook**: every registered interface object's
@@ -20,8 +20,8 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 6. cells: density, strain rate, stress, viscosity, energy, EOS, temperature and
    the next stable time step.
 
-Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and
-kinetic energy (K^{n-1/2} + K^{n+1/2})/2.
+Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
+leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/30-hydro.md, sec. 5).
 """
 
 from __future__ import annotations
@@ -63,7 +63,9 @@ class Simulation:
         self.problem = problem
         self.mesh = problem.mesh
         self.state = problem.state
-        self.interfaces: list[Interface] = list(interfaces or [])
+        self.interfaces: list[Interface] = []
+        self._after_step: list = []
+        self.out_dir = None
         deck = problem.deck
         self.t_end = deck.time.end
         self.cfl = deck.time.cfl
@@ -110,8 +112,7 @@ class Simulation:
             dt0 = min(dt0, deck.time.dt_initial)
         s.dt = min(dt0, self.dt_max, self.t_end)
         self._dt_prev = 0.0  # leapfrog start: v^{-1/2} = v^0 and a half velocity step
-        self._ke_half = K.kinetic_energy(s.vx, s.vy, s.mass_own)
-        s.energy.initial = self._ke_half + K.internal_energy(s.e, s.e_el, s.cell_mass)
+        s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
         self.energy_rows: list[tuple] = []
         self.probe_rows: list[tuple] = []
         self.probe_columns = [f"{p.name}.{q}" for p in problem.probes for q in p.quantities]
@@ -119,11 +120,13 @@ class Simulation:
         self._getters = [self._probe_getter(q, p.index) for p in problem.probes for q in p.quantities]
         self.observers: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
+        for obj in interfaces or []:
+            self.register_interface(obj)
 
     def reinitialize(self) -> None:
-        """After editing the initial state by hand (``state.e``, ``rho``, ``vx``, ...) at t = 0:
-        recompute pressure, temperature, moduli, sound speed, volumes and masses-consistent
-        density, the first time step and the initial energy."""
+        """After editing the initial state by hand at t = 0 (``state.e``, ``vx``, ``vy``, the
+        deviators ...): recompute pressure, temperature, moduli, flow stress and sound speed from
+        (rho, e), the first time step and the initial energy."""
         s = self.state
         if s.cycle != 0:
             raise RuntimeError("reinitialize() is for the initial state (cycle 0)")
@@ -138,8 +141,15 @@ class Simulation:
 
     # ------------------------------------------------------------------ hooks
     def register_interface(self, obj: Interface) -> None:
-        """Add an interface (slide line, driver) called every cycle after the free velocities."""
+        """Add an interface (slide line, driver) called every cycle after the free velocities.
+
+        Optional methods of the object: ``after_step(state, dt, t, cycle)`` is called at the end
+        of each cycle (positions and cells at t^{n+1} = t, dt the step just done), ``close()``
+        when the run ends (also on failure); ``simulation.out_dir`` is the output folder of the
+        run (None without one), for interface histories."""
         self.interfaces.append(obj)
+        if hasattr(obj, "after_step"):
+            self._after_step.append(obj)
 
     def _fail(self, cell: int, code: int) -> None:
         s = self.state
@@ -165,7 +175,10 @@ class Simulation:
         if self._finished:
             raise RuntimeError("this simulation has finished (its velocities are at the final time)")
         self._velocity_stage(final=False)
+        dt = self.state.dt
         self._advance_stage()
+        for obj in self._after_step:
+            obj.after_step(self.state, dt, self.state.t, self.state.cycle)
 
     def _velocity_stage(self, final: bool) -> None:
         """Steps 1-4 and the histories at t^n.  ``final``: the row at the end time, with a virtual
@@ -309,6 +322,9 @@ class Simulation:
             self.record_final()
         finally:
             self.wall_time += _time.perf_counter() - start
+            for obj in self.interfaces:
+                if hasattr(obj, "close"):
+                    obj.close()
 
     # ------------------------------------------------------------------ diagnostics
     def momentum(self) -> tuple[float, float]:
