@@ -107,10 +107,7 @@ class Simulation:
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
         self._grp = (problem.groups.ptr, problem.groups.nodes)
-        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.vx, s.vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
-        if deck.time.dt_initial is not None:
-            dt0 = min(dt0, deck.time.dt_initial)
-        s.dt = min(dt0, self.dt_max, self.t_end)
+        s.dt = self._first_time_step()
         self._dt_prev = 0.0  # leapfrog start: v^{-1/2} = v^0 and a half velocity step
         s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
         self.energy_rows: list[tuple] = []
@@ -132,12 +129,19 @@ class Simulation:
             raise RuntimeError("reinitialize() is for the initial state (cycle 0)")
         K.initial_cell_state(s.mat, s.props, s.isentrope, s.rho, s.e, s.pressure, s.temperature, s.shear_modulus,
                              s.yield_stress, s.sound_speed, s.eps_p)
-        deck = self.problem.deck
-        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.vx, s.vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
+        s.dt = self._first_time_step()
+        s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
+
+    def _first_time_step(self) -> float:
+        """First step from the sound speed and from the volume change that the initial velocities
+        make once the boundary constraints act on them (a cold gas driven onto a wall, Noh)."""
+        s, deck = self.state, self.problem.deck
+        vx, vy = s.vx.copy(), s.vy.copy()
+        K.apply_constraints(vx, vy, s.vx, s.vy, s.mass_own, *self._cons, 0.0)
+        dt0 = K.initial_time_step(s.conn, s.x, s.y, vx, vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
         if deck.time.dt_initial is not None:
             dt0 = min(dt0, deck.time.dt_initial)
-        s.dt = min(dt0, self.dt_max, self.t_end)
-        s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
+        return min(dt0, self.dt_max, self.t_end)
 
     # ------------------------------------------------------------------ hooks
     def register_interface(self, obj: Interface) -> None:

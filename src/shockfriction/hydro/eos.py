@@ -46,9 +46,15 @@ def eos_ab_s(rho, kind, rho0, c0, s, g0, gamma):
 
 @njit(cache=True)
 def sound_speed2_s(rho, p, kind, rho0, c0, s, g0, gamma):
-    """Bulk (isentropic) sound speed squared c^2 = dA/drho + P B/rho^2, floored."""
+    """Bulk (isentropic) sound speed squared, floored.
+
+    c^2 = dP/drho|_s = dA/drho + e dB/drho + P B/rho^2.  Mie-Grueneisen has B = Gamma0 rho0
+    constant; the ideal gas has B = (gamma - 1) rho, so e dB/drho = P/rho and c^2 = gamma P/rho.
+    """
     a, b, da = eos_ab_s(rho, kind, rho0, c0, s, g0, gamma)
     c2 = da + p * b / (rho * rho)
+    if kind == EOS_IDEAL_GAS:
+        c2 += p / rho
     floor = 1e-12 if kind == EOS_IDEAL_GAS else 1e-6 * c0 * c0
     return c2 if c2 > floor else floor
 

@@ -1,0 +1,51 @@
+"""``shockfriction fit FIT.toml``: least-squares fit of deck parameters to a measured record."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("fit")
+    def fit(
+        fit_file: Path = typer.Argument(..., help="fit file (TOML): deck, measured record, parameters and bounds"),
+        out: Optional[Path] = typer.Option(None, "--out", help="output folder (default: out/<fit file stem>): "
+                                           "fit.json, fit.png, computed.csv, evaluations.csv"),
+        scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786"),
+        workers: Optional[int] = typer.Option(None, "--workers", help="local pool size (default: all cores); "
+                                              "with --scheduler, wait for this many Dask workers"),
+    ) -> None:
+        """Fit parameters (and a time shift) by least squares; report values, 1-sigma uncertainties, residual."""
+        from rich.console import Console
+        from rich.table import Table
+
+        from shockfriction.sweep.fit import fit as run_fit
+        from shockfriction.sweep.fit import write_outputs
+
+        err = Console(stderr=True)
+
+        def report(k: int, point: dict) -> None:
+            values = ", ".join(f"{n} = {v:.6g}" for n, v in point.items() if n != "rms")
+            err.print(f"evaluation {k}: {values}: rms {point['rms']:.4g}", highlight=False)
+
+        res = run_fit(fit_file, scheduler, workers, on_evaluation=report)
+        out_dir = out or Path("out") / fit_file.stem
+        paths = write_outputs(res, out_dir)
+        console = Console()
+        table = Table(title=f"fit of {fit_file.name}: {res.message}")
+        for col in ("parameter", "best value", "1 sigma", "unit", "note"):
+            table.add_column(col)
+        for n, v, s, u, ident, bound in zip(res.names, res.values, res.sigma, res.units,
+                                            res.identifiable, res.at_bound):
+            note = ", ".join(x for x, on in (("not identifiable", not ident), ("at a bound", bound)) if on)
+            table.add_row(n, f"{v:.6g}", f"{s:.3g}", u, note)
+        console.print(table)
+        what = "weighted residual" if res.weighted else "residual"
+        console.print(f"{what} rms {res.rms:.4g} over {res.samples} samples "
+                      f"({res.evaluations} evaluations, {res.runs} model runs)")
+        console.print(f"report: {paths['report']}\nplot: {paths['plot']}")
+        if not res.success:
+            raise typer.Exit(1)
