@@ -41,7 +41,7 @@ def test_coarse_cone_shot_runs_and_balances(model, tmp_path):
     rel = abs(heat - line.total_friction_work) / line.total_friction_work
     print(f"{model}: {res.summary['cycles']} cycles, {res.summary['zones']} zones, max interface T "
           f"{d['theta_interface_K'].max():.1f} K, friction work {line.total_friction_work:.4e} J/rad, "
-          f"heat {heat:.4e} J/rad: {rel:.2e}")
+          f"heat {heat:.4e} J/rad (melt energy {parts['melt_energy']:.3e}): {rel:.2e}")
     assert rel < 0.01
     # ahead of the elastic precursor (6.4 mm/us in the Al cone, 5.7 in the steel) the columns see at most the
     # explicit scheme's exponentially small numerical precursor (2.4 mK measured at 400 um, against rises of

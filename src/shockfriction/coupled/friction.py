@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from shockfriction.coupled.kernels import capped_tangential_step, column_inputs
+from shockfriction.coupled.kernels import capped_tangential_step, clip_deposit, column_inputs
 from shockfriction.errors import DeckError, SimulationError
 from shockfriction.friction.subgrid.interface import SubgridInterface
 
@@ -147,13 +147,8 @@ class SubgridFriction:
         clipped off is booked as ``melt_energy`` (what melting would absorb), so the audit still closes.
         """
         sg = self.columns
-        pending = sg._pending_plastic_heat
-        room = sg.columns.rho_c * (sg.material.melting_temperature - MELT_MARGIN - sg.columns.theta)
-        over = pending > room
-        if over.any():
-            clipped = np.where(over, np.maximum(room, 0.0), pending)
-            self.melt_energy += float(area @ ((pending - clipped) @ sg.columns.weights))
-            pending[...] = clipped
+        self.melt_energy += clip_deposit(sg._pending_plastic_heat, sg.columns.theta, sg.columns.rho_c,
+                                         sg.material.melting_temperature - MELT_MARGIN, sg.columns.weights, area)
 
     def _guide_load(self, n: int) -> np.ndarray:
         if getattr(self, "_load", None) is None or self._load.size != n:
