@@ -168,3 +168,29 @@ def test_free_slip_option_keeps_the_thesis_bias(contact_decks):
         if ny == 60:
             assert tau == pytest.approx(171.37e6, rel=2e-3)
             assert slip == pytest.approx(36.338, rel=2e-3)
+
+
+def test_weakening_law_that_must_weld(contact_decks):
+    """100 m/s at 45 degrees, mu0 = 0.6, mu_inf = 0.05, gamma = 0.02 s/m: mu(s) sigma_n > tau(s) for
+    every slip s in [0, V_t], so the only solution is welded (tau = tau_s = 888.1 MPa).  The
+    corrected evaluation welds; the free slip of eq. 3.79 starts at V_t = 70.7 m/s, sees a low mu and
+    keeps sliding (about -50% in tau)."""
+    mu0, mu_inf, gamma, angle = 0.6, 0.05, 0.02, math.radians(45.0)
+    exact = pressure_shear_velocity_dependent(100.0, angle, mu0, mu_inf, gamma, RHO, CL, CS, RHO, CL, CS)
+    vt = 100.0 * math.sin(angle)
+    s = np.linspace(0.0, vt, 1001)
+    mu = mu_inf + (mu0 - mu_inf) * np.exp(-gamma * s)
+    assert exact.sticking and np.all(s - vt + mu * exact.sigma_n * COMPLIANCE_S > 0.0)   # no sliding root
+    out = {}
+    for evaluation in ("corrected", "free"):
+        deck = contact_decks["pressure_shear"](mu=mu0, law="modified_coulomb", end="0.9 us", ny=60, angle_deg=45.0,
+                                               friction_extra={"mu_inf": mu_inf, "gamma": f"{gamma} s/m",
+                                                               "evaluation": evaluation})
+        d = run_dict(deck).simulation.interfaces[0].record.arrays()
+        sel = (d["t"] > 0.4e-6) & (d["t"] < 0.85e-6)
+        out[evaluation] = (-d["tau"][sel].mean(), d["slip"][sel].mean())
+        print(f"{evaluation}: tau {out[evaluation][0] / 1e6:.2f} MPa (welded exact {exact.tau / 1e6:.2f}), "
+              f"slip {out[evaluation][1]:.3g} m/s")
+    assert out["corrected"][0] == pytest.approx(exact.tau, rel=0.01)
+    assert abs(out["corrected"][1]) < 1e-6 * vt
+    assert out["free"][0] < 0.7 * exact.tau and out["free"][1] > 0.2 * vt

@@ -20,9 +20,12 @@ With the velocity-dependent law mu(|[V]|) = mu_inf + (mu0 - mu_inf) exp(-gamma |
 
     [V] = V_t - mu([V]) sigma_n (1/Z_1s + 1/Z_2s)        (:func:`pressure_shear_velocity_dependent`)
 
-unique when the plates do not stick (mu0 sigma_n < tau_s): f(s) = s - V_t + mu(s) sigma_n
+unique when the plates cannot stick (mu0 sigma_n < tau_s): f(s) = s - V_t + mu(s) sigma_n
 (1/Z_1s + 1/Z_2s) is convex (mu is), f(0) < 0 < f(V_t).  Steady sliding there is stable when
 |dmu/d[V]| sigma_n (1/Z_1s + 1/Z_2s) < 1 at the root (radiation damping beats the weakening).
+When mu0 sigma_n >= tau_s the welded state is a solution; with a weakening steep at low slip
+f may still have two roots in (0, V_t) (welded and sliding states coexist and the history
+selects one); the welded one is returned, the only one when f > 0 on (0, V_t).
 """
 
 from __future__ import annotations
