@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from shockfriction.analysis.interface_stability import unstable_modes
 from shockfriction.analysis.pressure_shear import pressure_shear_velocity_dependent
 from shockfriction.contact.impulses import normal_step, point_weights, tangential_step
 from shockfriction.deck.base import validate
@@ -194,3 +195,22 @@ def test_weakening_law_that_must_weld(contact_decks):
     assert out["corrected"][0] == pytest.approx(exact.tau, rel=0.01)
     assert abs(out["corrected"][1]) < 1e-6 * vt
     assert out["free"][0] < 0.7 * exact.tau and out["free"][1] > 0.2 * vt
+
+
+# ---------------------------------------------------------------- linear stability on the lattice
+def test_lattice_stability_of_the_evaluations():
+    """The strip's weakening slope b = |F_N| |dmu/ds| = 4.3e6 Pa s/m is 0.17 rho c_s.  Evaluations
+    that see the slip without lag (free, midpoint, corrected) have a growing interface mode near the
+    shear lattice's cutoff omega_c dt = 2 asin(lambda) (the flutter); with a lag (relaxed) or no
+    phase (centred) there is none; without weakening nothing grows."""
+    for lam in (0.15, 0.27):
+        wc = 2.0 * math.asin(lam)
+        for ev in ("free", "midpoint", "corrected", "centred", "relaxed"):
+            assert unstable_modes(lam, 0.0, ev)[0] == 0
+        for ev in ("free", "midpoint", "corrected"):
+            count, z, w = unstable_modes(lam, 0.17, ev)
+            print(f"lambda {lam}, {ev}: {count} growing modes, |z| - 1 = {z - 1:.2e} per step at {w / wc:.2f} omega_c")
+            assert count == 2 and z - 1.0 > 1e-3 and 0.9 < w / wc < 1.0
+        for ev, n in (("centred", 5), ("relaxed", 1), ("relaxed", 5), ("relaxed", 20)):
+            assert unstable_modes(lam, 0.17, ev, n)[0] == 0
+            assert unstable_modes(lam, 0.45, ev, n)[0] == 0
