@@ -214,3 +214,76 @@ def test_lattice_stability_of_the_evaluations():
         for ev, n in (("centred", 5), ("relaxed", 1), ("relaxed", 5), ("relaxed", 20)):
             assert unstable_modes(lam, 0.17, ev, n)[0] == 0
             assert unstable_modes(lam, 0.45, ev, n)[0] == 0
+
+
+# ---------------------------------------------------------------- sliding block through all slip speeds
+P_LOAD, RAMP, V0, H_MM = 100e6, 0.2e-6, 50.0, 0.2
+
+
+class _TopPressure:
+    """A uniform normal pressure p(t) on the block's top side (as in test_sliding_block.py)."""
+
+    def __init__(self, sim, body, side, pressure):
+        self.nodes = sim.mesh.side_nodes(body, side)
+        self.pressure = pressure
+
+    def apply(self, state, dt, t, cycle):
+        x, y = state.x[self.nodes], state.y[self.nodes]
+        seg = np.hypot(np.diff(x), np.diff(y))
+        trib = np.zeros(self.nodes.size)
+        trib[:-1] += 0.5 * seg
+        trib[1:] += 0.5 * seg
+        state.vy[self.nodes] -= self.pressure(t) * trib * dt / state.mass[self.nodes]
+
+
+def _ramp(t):
+    return P_LOAD * min(max(t / RAMP, 0.0), 1.0)
+
+
+def test_sliding_block_decelerates_along_the_velocity_dependent_law(contact_decks):
+    """Block (0.2 mm, 5 cells across) sliding at 50 m/s on a fixed base (3 cells across), pressed
+    by a ramped 100 MPa: the rigid-block law dV/dt = -mu(V) p(t - H/c_L)/(rho H), with
+    mu0 = 0.3, mu_inf = 0.1, gamma = 0.05 s/m, integrated to the stop; then it sticks (mu0).
+    The slip speed sweeps the whole law, and the stick exercises the relaxed slip at rest."""
+    from scipy.integrate import solve_ivp
+
+    from shockfriction.hydro.api import prepare, run_simulation
+
+    mu0, mu_inf = 0.3, 0.1
+    block = contact_decks["block"]
+    per = {"left": "periodic", "right": "periodic"}
+    base = block("base", 0, 0.2, -H_MM, 0, 3, 4, dict(per, bottom="fixed"))
+    top = block("block", 0, 0.2, 0, H_MM, 5, 4, per, (f"{V0} m/s", "0 m/s"))
+    deck = {"title": "sliding block", "time": {"end": "6 us", "cfl": 0.5}, "bodies": [base, top],
+            "slide_lines": [{"name": "slide", "guide": {"body": "base", "side": "top"},
+                             "slave": {"body": "block", "side": "bottom"}, "record_interval": "20 ns",
+                             "friction": {"law": "modified_coulomb", "mu0": mu0, **FRICTION, "mu_inf": mu_inf}}]}
+    sim = prepare(deck)
+    sim.register_interface(_TopPressure(sim, "block", "top", _ramp))
+    blk = sim.mesh.node_body == 1
+    history = []
+    sim.observers.append(lambda s: history.append(
+        (s.state.t, float(np.sum(s.state.mass_own[blk] * (s._vx_old[blk] + s.state.vx[blk])) / 2))))
+    res = run_simulation(sim)
+    mass = float(res.state.cell_mass[res.mesh.cell_body == 1].sum())
+    h = np.array(history)
+    t, v = h[:, 0], h[:, 1] / mass
+    h_m = H_MM * 1e-3
+    t_arrive = h_m / CL
+
+    def rhs(time, y):
+        mu = mu_inf + (mu0 - mu_inf) * math.exp(-GAMMA * max(y[0], 0.0))
+        return [-mu * _ramp(time - t_arrive) / (RHO * h_m)]
+
+    stop = lambda time, y: y[0]     # noqa: E731
+    stop.terminal = True
+    sol = solve_ivp(rhs, (0.0, t[-1]), [V0], events=stop, dense_output=True, rtol=1e-10, atol=1e-10)
+    t_stop = sol.t_events[0][0]
+    v_pred = np.where(t < t_stop, sol.sol(np.minimum(t, t_stop))[0], 0.0)
+    err = np.abs(v - v_pred).max() / V0
+    t_stop_sim = t[np.argmax(v < 0.01 * V0)]
+    print(f"stop at {t_stop * 1e6:.3f} us (simulated {t_stop_sim * 1e6:.3f} us, {t_stop_sim / t_stop - 1:+.2%}); "
+          f"max |V - V_law|/V0 = {err:.2%}; after the stop max |V| {np.abs(v[t > t_stop + 0.1e-6]).max() / V0:.2%}")
+    assert err < 0.03
+    assert t_stop_sim == pytest.approx(t_stop, rel=0.03)
+    assert np.abs(v[t > t_stop + 0.1e-6]).max() < 0.03 * V0
