@@ -140,7 +140,8 @@ def build_interfaces(entries, simulation) -> list[SlideLineInterface]:
         c = state.conn[guide_cells[0]]
         sign = guide_normal_sign(state.x, state.y, guide, float(state.x[c].mean()), float(state.y[c].mean()))
         fr = sl.friction
-        params = law_parameters(mu0=fr.mu0 or 0.0, mu_inf=fr.mu_inf, gamma=fr.gamma, mu_T=fr.mu_T)
+        params = law_parameters(mu0=fr.mu0 or 0.0, mu_inf=fr.mu_inf, gamma=fr.gamma, mu_T=fr.mu_T,
+                                evaluation=fr.evaluation, relaxation_steps=fr.relaxation_steps)
         share = None
         if sl.heat == "effusivity":
             ms, mg = bodies[sl.slave.body].material, bodies[sl.guide.body].material

@@ -13,7 +13,9 @@ Example::
     max_sweeps = 50                                 # Gauss-Seidel sweeps per step (1: thesis single pass)
     friction = { law = "coulomb", mu0 = 0.1 }      # frictionless, coulomb, modified_coulomb
                                                     # (mu0, mu_inf, gamma "s/m"), tresca (mu_T),
-                                                    # coulomb_tresca (mu0, mu_inf, gamma, mu_T)
+                                                    # coulomb_tresca (mu0, mu_inf, gamma, mu_T);
+                                                    # evaluation = "corrected" (default) | "free" (eq. 3.79),
+                                                    # relaxation_steps = 5 (slip of a velocity-dependent mu)
 """
 
 from __future__ import annotations
@@ -51,6 +53,12 @@ class FrictionDeck(SubgridFrictionOptions, DeckModel):
     mu_inf: Optional[Dimensionless] = Field(None, ge=0.0, description="dynamic coefficient (eq. 2.90)")
     gamma: Slowness = Field(0.0, ge=0.0, description="inverse threshold slip velocity, e.g. '0.01 s/m'")
     mu_T: Optional[Dimensionless] = Field(None, ge=0.0, description="Tresca coefficient; unset: mu_T = mu (eq. 3.81)")
+    evaluation: Literal["corrected", "free"] = Field(
+        "corrected", description="slip at which a velocity-dependent mu is evaluated: after this step's friction "
+                                 "correction (converges under refinement) or the free slip of the thesis's eq. 3.79")
+    relaxation_steps: float = Field(
+        5.0, ge=0.0, le=1000.0, description="relaxation time of the slip seen by the law with evaluation = "
+                                            "'corrected', in time steps (0: none; it then flutters)")
 
     @model_validator(mode="after")
     def _needs(self):

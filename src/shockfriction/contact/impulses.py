@@ -33,9 +33,11 @@ kept >= 0 (no tension).  With ``bilateral`` (the thesis's permanent
 contact, eqs. 3.64-3.66) it may be negative.
 
 Tangential step: free slip s* = (v_g - v_G).t after the normal step; the law gives
-the traction limit tau_max(|F_N|, |s*|, Y_g, Y_G) (eq. 3.77-3.81, free slip as in
-eq. 3.79) and the friction impulse is the sticking impulse capped by
-tau_max S_g dt (eqs. 3.82-3.85 with the signs fixed).  Nodes without a compressive
+the traction limit tau_max(|F_N|, |[V]|, Y_g, Y_G) (eq. 3.77-3.81) and the friction
+impulse is the sticking impulse capped by tau_max S_g dt (eqs. 3.82-3.85 with the signs
+fixed).  |[V]| is the free slip |s*| (eq. 3.79) for ``evaluation = "free"``; by default
+a velocity-dependent law sees the slip after the step's correction, relaxed over a few
+steps (:mod:`shockfriction.friction.laws`).  Nodes without a compressive
 normal impulse get no friction (bilateral contact uses |F_N|).
 
 Several slave nodes may share guide nodes; the corrections are applied node after
@@ -50,9 +52,10 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
-from shockfriction.friction.laws import traction_limit
+from shockfriction.friction.laws import corrected_traction, relaxation_rate, slip_weight, traction_limit
 
 #: fraction of an existing penetration removed per step (open gaps close in one step)
 PENETRATION_RELAXATION = 0.1
@@ -141,40 +144,64 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
 @njit(cache=True)
 def tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, dt, area,
                     law, law_params, y_slave, y_guide, lam_n, max_sweeps, rel_tol,
-                    lam_t, slip_free, slip):
+                    lam_t, slip_free, slip, slip_law=None):
     """Friction step: tangential impulses ``lam_t`` (N s, on the slave along t).
 
-    ``slip_free[j]`` is the free slip s* = (v_g - v_G).t after the normal step (the
-    law's velocity, eq. 3.79) and ``slip[j]`` the corrected slip.  ``y_slave[j]``,
-    ``y_guide[j]`` are the yield stresses of the two sides at node j (Tresca laws only);
-    ``dt`` is the velocity step (force = impulse/dt).  Returns the sweeps done.
+    ``slip_free[j]`` is the free slip s* = (v_g - v_G).t after the normal step and
+    ``slip[j]`` the corrected slip.  ``y_slave[j]``, ``y_guide[j]`` are the yield stresses
+    of the two sides at node j (Tresca laws only); ``dt`` is the velocity step (force =
+    impulse/dt).  A law that does not depend on the slip speed, or ``evaluation = "free"``
+    (theta = 0 in ``law_params``), is evaluated once at |s*| (eq. 3.79).  Otherwise each
+    visit of node j solves the law at the slip after its own correction
+    (:func:`~shockfriction.friction.laws.corrected_traction`), relaxed over n steps through
+    ``slip_law[j]`` (the law's slip speed, kept between steps; updated in place; None: a
+    state starting from rest).  Returns the sweeps done.
     """
     ns = slave.size
     cap = lam_n.copy()
+    sigma = lam_n.copy()
+    theta = slip_weight(law, law_params)
+    relax = relaxation_rate(law_params)
+    if slip_law is None:
+        state = np.zeros(ns)
+    else:
+        state = slip_law
     for j in range(ns):
         lam_t[j] = 0.0
         slip_free[j] = 0.0
         slip[j] = 0.0
         cap[j] = 0.0
+        sigma[j] = 0.0
         if not active[j]:
             continue
         s = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j])
         slip_free[j] = s
         if lam_n[j] == 0.0 or area[j] <= 0.0:
+            state[j] = abs(s)     # the law's slip follows the slip while the pair carries no friction
             continue
-        sigma_n = lam_n[j] / (dt * area[j])
-        cap[j] = traction_limit(law, law_params, sigma_n, abs(s), y_slave[j], y_guide[j]) * area[j] * dt
+        sigma[j] = lam_n[j] / (dt * area[j])
+        cap[j] = traction_limit(law, law_params, sigma[j], abs(s), y_slave[j], y_guide[j]) * area[j] * dt
     scale = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
         sweeps += 1
         change = 0.0
         for j in range(ns):
-            if cap[j] <= 0.0:
+            if sigma[j] == 0.0 or (theta == 0.0 and cap[j] <= 0.0):
                 continue
             i_g = slave[j]
             inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
             s = _relative_velocity(vx, vy, j, i_g, gnode, gw, tx[j], ty[j])
+            if theta > 0.0:    # the law at the slip after this node's correction (s - lam_t/inv is its free slip)
+                s_own = abs(s - lam_t[j] * inv_pair)
+                if relax > 0.0:
+                    w = (state[j] + relax * s_own) / (1.0 + relax)
+                    th = theta * relax / (1.0 + relax)
+                else:
+                    w = s_own
+                    th = theta
+                cap[j] = corrected_traction(law, law_params, sigma[j], w, s_own,
+                                            area[j] * dt * inv_pair, th, y_slave[j], y_guide[j]) * area[j] * dt
             new = lam_t[j] - s / inv_pair
             if new > cap[j]:
                 new = cap[j]
@@ -195,6 +222,8 @@ def tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, dt, area,
     for j in range(ns):
         if active[j]:
             slip[j] = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j])
+            if theta > 0.0 and relax > 0.0 and sigma[j] > 0.0:
+                state[j] = (state[j] + relax * abs(slip[j])) / (1.0 + relax)
     return sweeps
 
 

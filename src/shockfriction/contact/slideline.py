@@ -169,6 +169,7 @@ class SlideLine:
         self.work_t = np.zeros(ns)
         self.slip_free = np.zeros(ns)
         self.slip = np.zeros(ns)
+        self.slip_law = np.zeros(ns)      # slip speed seen by a velocity-dependent law (its relaxed state)
         self.area = np.zeros(ns)
         self.xi_prev = np.zeros(ns)
         self.xi_node = np.zeros(ns)
@@ -311,7 +312,7 @@ class SlideLine:
             self.sweeps_tangential = tangential_step(
                 vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.tx, self.ty, self.active, dt,
                 self.area, self.law, self.law_params, y_slave, y_guide, self.lam_n, self.max_sweeps, self.rel_tol,
-                self.lam_t, self.slip_free, self.slip)
+                self.lam_t, self.slip_free, self.slip, self.slip_law)
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.nx, self.ny,
                      self.active, self.lam_n, self.work_n)
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.tx, self.ty,
