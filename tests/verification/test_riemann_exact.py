@@ -82,3 +82,14 @@ def test_weak_wave_tends_to_acoustic():
 def test_vacuum_is_refused():
     with pytest.raises(ValueError, match="vacuum"):
         solve_star(GasState(1.0, -20.0, 0.4), GasState(1.0, 20.0, 0.4), GAMMA)
+
+
+def test_convergence_helpers():
+    from shockfriction.analysis.convergence import front_position, l1_error, observed_order
+    h = np.array([0.1, 0.05, 0.025])
+    assert observed_order(h, 3.0 * h**2) == pytest.approx(2.0, rel=1e-12)
+    assert l1_error([1.0, 2.0], [1.5, 1.0], [1.0, 3.0]) == pytest.approx((0.5 + 3.0) / 4.0)
+    x = np.linspace(0.0, 1.0, 11)
+    q = np.where(x < 0.43, 2.0, 1.0)
+    assert 0.4 <= front_position(x, q, 1.5) <= 0.5
+    assert front_position(x, 1.0 - x, 0.25) == pytest.approx(0.75)
