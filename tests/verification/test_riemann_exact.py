@@ -93,3 +93,12 @@ def test_convergence_helpers():
     q = np.where(x < 0.43, 2.0, 1.0)
     assert 0.4 <= front_position(x, q, 1.5) <= 0.5
     assert front_position(x, 1.0 - x, 0.25) == pytest.approx(0.75)
+
+
+def test_integer_states_are_sampled_as_floats():
+    x = np.array([0.3, 0.45, 0.6, 0.8])
+    as_int = profile(GasState(1, 0, 1), GasState(0.125, 0, 0.1), GAMMA, x, 0.2, 0.5)
+    as_float = profile(GasState(1.0, 0.0, 1.0), GasState(0.125, 0.0, 0.1), GAMMA, x, 0.2, 0.5)
+    for a, b in zip(as_int, as_float):
+        assert np.allclose(a, b, rtol=1e-15)
+    assert 0.26 < as_float[0][2] < 0.43  # star region between contact and shock

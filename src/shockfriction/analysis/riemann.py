@@ -118,7 +118,9 @@ def sample(left: GasState, right: GasState, gamma: float, xi: np.ndarray,
         v = sign * state.u
         v_star = sign * star.u
         c = _sound_speed(state, gamma)
-        r, w, q = np.full(x.shape, state.rho), np.full(x.shape, v), np.full(x.shape, state.p)
+        r = np.full(x.shape, float(state.rho))
+        w = np.full(x.shape, float(v))
+        q = np.full(x.shape, float(state.p))
         if star.p > state.p:  # shock moving towards -x in the mirrored frame
             ratio = star.p / state.p
             speed = v - c * np.sqrt((gamma + 1.0) / (2.0 * gamma) * ratio + (gamma - 1.0) / (2.0 * gamma))
