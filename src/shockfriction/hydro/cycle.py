@@ -1,0 +1,288 @@
+"""The explicit Lagrangian cycle (thesis Fig. 3.7) and its interface hook.
+
+One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
+
+1. nodal forces F^n from sigma^n at x^n (+ hourglass on v^{n-1/2});
+2. node groups (ties, periodic sides) share their summed force;
+3. free velocities v* = v^{n-1/2} + dt^n F/m, boundary constraints applied;
+4. **interface hook**: every registered interface object's
+   ``apply(state, dt, t, cycle)`` is called in registration order, with
+   ``dt = state.dt_velocity`` (dt^n, the step of the impulses) and ``t = t^n``;
+   ``state.dt`` is the coming position step dt^{n+1/2}.  It corrects
+   ``state.vx, state.vy`` by impulses (a node of a group: change it by J/mass,
+   ``state.mass`` is the group mass), may add heat to cells' ``state.e`` (and then
+   adds the same amount, J per unit depth or per radian, to
+   ``state.energy.interface_heat``) and may report friction work in
+   ``state.energy.friction_work``.  The cycle measures the work of the
+   corrections (``state.energy.interface_work``), re-synchronises node groups
+   and re-applies the boundary constraints;
+5. positions x^{n+1} = x^n + dt^{n+1/2} v^{n+1/2};
+6. cells: density, strain rate, stress, viscosity, energy, EOS, temperature and
+   the next stable time step.
+
+Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and
+kinetic energy (K^{n-1/2} + K^{n+1/2})/2.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from typing import Callable, Protocol
+
+import numba
+import numpy as np
+
+from shockfriction.errors import SimulationError
+from shockfriction.hydro import kernels as K
+from shockfriction.hydro.setup import Problem
+
+
+class Interface(Protocol):
+    """What the cycle calls between the free velocities and the position update."""
+
+    def apply(self, state, dt: float, t: float, cycle: int) -> None: ...
+
+
+ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
+                  "friction_work", "error")
+
+
+def _node_corner_csr(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    flat = conn.ravel()
+    order = np.argsort(flat, kind="stable")
+    counts = np.bincount(flat, minlength=n_nodes)
+    ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    return ptr, order.astype(np.int64)
+
+
+class Simulation:
+    """A problem in time: state, numerics, interfaces and histories."""
+
+    def __init__(self, problem: Problem, interfaces=None, threads: int | None = None):
+        self.problem = problem
+        self.mesh = problem.mesh
+        self.state = problem.state
+        self.interfaces: list[Interface] = list(interfaces or [])
+        deck = problem.deck
+        self.t_end = deck.time.end
+        self.cfl = deck.time.cfl
+        self.dvmax = deck.time.max_volume_change
+        self.dt_growth = deck.time.dt_growth
+        self.dt_max = deck.time.dt_max or math.inf
+        self.max_cycles = deck.time.max_cycles
+        self.cq = deck.viscosity.quadratic
+        self.cl = deck.viscosity.linear
+        self.hg = deck.viscosity.hourglass
+        threads = deck.threads if threads is None else threads
+        self.threads = numba.config.NUMBA_NUM_THREADS if threads == 0 else min(threads, numba.config.NUMBA_NUM_THREADS)
+        self.parallel = self.threads > 1
+        s = self.state
+        nn, nc = s.n_nodes, s.n_cells
+        self._x_old = np.empty(nn)
+        self._y_old = np.empty(nn)
+        self._vx_old = np.empty(nn)
+        self._vy_old = np.empty(nn)
+        self._vx_free = np.empty(nn)
+        self._vy_free = np.empty(nn)
+        if self.parallel:
+            self._corner = np.zeros((nc, 8))
+            self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
+            self._dtcell = np.empty(nc)
+            self._errcell = np.zeros(nc, dtype=np.int64)
+        c = problem.constraints
+        self._cons = (c.node, c.nx, c.ny, c.value)
+        self._grp = (problem.groups.ptr, problem.groups.nodes)
+        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.sound_speed, self.cfl)
+        if deck.time.dt_initial is not None:
+            dt0 = min(dt0, deck.time.dt_initial)
+        s.dt = min(dt0, self.dt_max, self.t_end)
+        self._dt_prev = 0.0  # leapfrog start: v^{-1/2} = v^0 and a half velocity step
+        self._ke_half = K.kinetic_energy(s.vx, s.vy, s.mass_own)
+        s.energy.initial = self._ke_half + K.internal_energy(s.e, s.e_el, s.cell_mass)
+        self.energy_rows: list[tuple] = []
+        self.probe_rows: list[tuple] = []
+        self.probe_columns = [f"{p.name}.{q}" for p in problem.probes for q in p.quantities]
+        self.probe_every = deck.output.probe_every
+        self.observers: list[Callable[["Simulation"], None]] = []
+        self.wall_time = 0.0
+
+    # ------------------------------------------------------------------ hooks
+    def register_interface(self, obj: Interface) -> None:
+        """Add an interface (slide line, driver) called every cycle after the free velocities."""
+        self.interfaces.append(obj)
+
+    def _fail(self, cell: int, code: int) -> None:
+        s = self.state
+        name, i, j = self.mesh.cell_ij(cell)
+        raise SimulationError(
+            f"body {name!r}, cell ({i}, {j}) [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
+            f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
+
+    # ------------------------------------------------------------------ one cycle
+    def step(self) -> None:
+        s = self.state
+        dt = s.dt
+        dtv = 0.5 * (self._dt_prev + dt)
+        s.dt_velocity = dtv
+        ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
+        # 1-2 forces
+        if self.parallel:
+            K.forces_parallel(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho,
+                              s.sound_speed, s.cell_mass, s.e, s.axisymmetric, self.hg, dtv, s.fx, s.fy,
+                              self._corner, self._node_ptr, self._node_corner)
+        else:
+            K.forces_serial(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho,
+                            s.sound_speed, s.cell_mass, s.e, s.axisymmetric, self.hg, dtv, s.fx, s.fy)
+        if self._grp[0].shape[0] > 1:
+            K.sum_groups(s.fx, s.fy, *self._grp)
+        # 3 free velocities and boundary constraints
+        self._vx_old[:] = s.vx
+        self._vy_old[:] = s.vy
+        K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv)
+        s.energy.boundary_work += K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own,
+                                                      *self._cons, dtv)
+        # 4 interfaces
+        if self.interfaces:
+            self._vx_free[:] = s.vx
+            self._vy_free[:] = s.vy
+            for obj in self.interfaces:
+                obj.apply(s, dtv, s.t, s.cycle)
+            if self._grp[0].shape[0] > 1:
+                K.sync_groups(s.vx, s.vy, self._vx_free, self._vy_free, *self._grp)
+            dvx = s.vx - self._vx_free
+            dvy = s.vy - self._vy_free
+            s.energy.interface_work += 0.5 * float(np.sum(s.mass_own * (dvx * (self._vx_old + s.vx)
+                                                                        + dvy * (self._vy_old + s.vy))))
+            s.energy.boundary_work += K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own,
+                                                          *self._cons, dtv)
+        if s.cycle % self.probe_every == 0:
+            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own), ie)
+        # 5 positions
+        K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
+        # 6 cells
+        if self.parallel:
+            dtn, bad, code = K.update_cells_parallel(
+                s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
+                self.dvmax, self._dtcell, self._errcell)
+        else:
+            dtn, bad, code = K.update_cells_serial(
+                s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
+                self.dvmax)
+        if bad >= 0:
+            self._fail(bad, code)
+        s.t += dt
+        s.cycle += 1
+        self._dt_prev = dt
+        dtn = min(dtn, self.dt_growth * dt, self.dt_max)
+        remaining = self.t_end - s.t
+        if dtn > remaining:
+            dtn = remaining
+        elif dtn > 0.5 * remaining:  # avoid a sliver of a last step
+            dtn = 0.5 * remaining
+        s.dt = dtn
+
+    # ------------------------------------------------------------------ histories
+    def _record(self, ke: float, ie: float) -> None:
+        s = self.state
+        f = s.geometry_factor
+        en = s.energy
+        total = ke + ie
+        err = total - (en.initial + en.boundary_work + en.interface_work + en.interface_heat)
+        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * en.boundary_work, f * en.interface_work,
+                                 f * en.interface_heat, f * en.friction_work, f * err))
+        if self.problem.probes:
+            row = [s.t]
+            for p in self.problem.probes:
+                i = p.index
+                for qn in p.quantities:
+                    row.append(self._probe_value(qn, i))
+            self.probe_rows.append(tuple(row))
+        for obs in self.observers:
+            obs(self)
+
+    def _probe_value(self, qn: str, i: int) -> float:
+        s = self.state
+        if qn == "vx":
+            return 0.5 * (self._vx_old[i] + s.vx[i])
+        if qn == "vy":
+            return 0.5 * (self._vy_old[i] + s.vy[i])
+        if qn == "x":
+            return s.x[i]
+        if qn == "y":
+            return s.y[i]
+        ptot = s.pressure[i] + s.q[i]
+        szz = -(s.sxx[i] + s.syy[i])
+        table = {
+            "p": s.pressure[i], "q": s.q[i], "sxx": s.sxx[i], "syy": s.syy[i], "sxy": s.sxy[i], "szz": szz,
+            "sigma_xx": s.sxx[i] - ptot, "sigma_yy": s.syy[i] - ptot, "sigma_xy": s.sxy[i],
+            "sigma_zz": szz - ptot, "rho": s.rho[i], "e": s.e[i], "T": s.temperature[i], "eps_p": s.eps_p[i],
+            "Y": s.yield_stress[i], "G": s.shear_modulus[i],
+        }
+        return float(table[qn])
+
+    def record_final(self) -> None:
+        """Add the state at the final time (kinetic energy from a half step of the final forces)."""
+        s = self.state
+        ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
+        e_save = s.e.copy()
+        fx, fy = s.fx.copy(), s.fy.copy()
+        K.forces_serial(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+                        s.cell_mass, s.e, s.axisymmetric, self.hg, 0.0, s.fx, s.fy)
+        if self._grp[0].shape[0] > 1:
+            K.sum_groups(s.fx, s.fy, *self._grp)
+        self._vx_old[:] = s.vx
+        self._vy_old[:] = s.vy
+        vx, vy = s.vx.copy(), s.vy.copy()
+        K.advance_velocities(vx, vy, s.fx, s.fy, s.mass, 0.5 * self._dt_prev)
+        K.apply_constraints(vx, vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, 0.0)
+        s.e[:] = e_save
+        s.fx[:], s.fy[:] = fx, fy
+        ke = K.kinetic_energy(vx, vy, s.mass_own)
+        vsave = (s.vx, s.vy)
+        s.vx, s.vy = vx, vy
+        self._vx_old[:] = vx
+        self._vy_old[:] = vy
+        self._record(ke, ie)
+        s.vx, s.vy = vsave
+
+    # ------------------------------------------------------------------ loop
+    def run(self, progress: Callable[[float], None] | None = None) -> None:
+        """Cycle to the end time (or max_cycles); ``progress(t)`` is called every 50 cycles."""
+        s = self.state
+        start = _time.perf_counter()
+        try:
+            while s.t < self.t_end * (1.0 - 1e-12) and s.cycle < self.max_cycles:
+                self.step()
+                if progress is not None and s.cycle % 50 == 0:
+                    progress(s.t)
+            self.record_final()
+        finally:
+            self.wall_time += _time.perf_counter() - start
+
+    # ------------------------------------------------------------------ diagnostics
+    def momentum(self) -> tuple[float, float]:
+        """Total momentum (x, y) per unit depth / per radian, from v^{n+1/2}."""
+        return K.momentum(self.state.vx, self.state.vy, self.state.mass_own)
+
+    def energy_history(self) -> dict[str, np.ndarray]:
+        arr = np.array(self.energy_rows, dtype=float).reshape(-1, len(ENERGY_COLUMNS))
+        return {k: arr[:, i] for i, k in enumerate(ENERGY_COLUMNS)}
+
+    def probe_history(self) -> dict[str, np.ndarray]:
+        cols = ["t_s"] + self.probe_columns
+        arr = np.array(self.probe_rows, dtype=float).reshape(-1, len(cols))
+        return {k: arr[:, i] for i, k in enumerate(cols)}
+
+    def relative_energy_error(self) -> float:
+        """max |error| over the run divided by the largest of |initial|, max kinetic, max internal."""
+        h = self.energy_history()
+        if h["t_s"].size == 0:
+            return 0.0
+        scale = max(abs(self.state.energy.initial) * self.state.geometry_factor, np.abs(h["kinetic"]).max(),
+                    np.abs(h["internal"]).max(), 1e-300)
+        return float(np.abs(h["error"]).max() / scale)

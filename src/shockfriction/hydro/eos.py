@@ -1,0 +1,122 @@
+"""Equations of state, written P = A(rho) + B(rho) e (linear in the specific energy e).
+
+Mie-Grueneisen on a linear Us = c0 + s up Hugoniot (Gamma rho = Gamma0 rho0),
+eta = 1 - rho0/rho, mu = rho/rho0 - 1 (docs/theory/30-hydro.md, sec. EOS)::
+
+    compression (eta > 0): P_H = rho0 c0^2 eta/(1 - s eta)^2,  A = P_H (1 - Gamma0 eta/2)
+    tension     (eta <= 0): A = rho0 c0^2 mu
+    B = Gamma0 rho0
+
+Ideal gas: A = 0, B = (gamma - 1) rho.
+
+Temperature: Mie-Grueneisen T = T0 + (e - e_s(mu))/c_v, with e_s the energy on the
+isentrope through (rho0, e = 0), tabulated once per body (the "cold" energy is
+the isentropic compression energy, which carries no temperature rise); ideal gas
+T = e/c_v.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from shockfriction.hydro.matprops import (
+    EOS_IDEAL_GAS, N_TABLE, P_C0, P_CV, P_EOS, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_RHO0, P_S, P_T0,
+)
+
+
+@njit(cache=True)
+def eos_ab(rho, props, m):
+    """(A, B, dA/drho) of P = A + B e for body ``m`` at density ``rho``."""
+    if props[m, P_EOS] == EOS_IDEAL_GAS:
+        return 0.0, (props[m, P_GAMMA] - 1.0) * rho, 0.0
+    rho0 = props[m, P_RHO0]
+    c0 = props[m, P_C0]
+    s = props[m, P_S]
+    g0 = props[m, P_GAMMA0]
+    k0 = rho0 * c0 * c0
+    eta = 1.0 - rho0 / rho
+    if eta <= 0.0:
+        return k0 * (rho / rho0 - 1.0), g0 * rho0, c0 * c0
+    den = 1.0 - s * eta
+    if den <= 1e-6:
+        den = 1e-6
+    ph = k0 * eta / (den * den)
+    dph = k0 * (1.0 + s * eta) / (den * den * den)
+    a = ph * (1.0 - 0.5 * g0 * eta)
+    da_deta = dph * (1.0 - 0.5 * g0 * eta) - 0.5 * g0 * ph
+    return a, g0 * rho0, da_deta * rho0 / (rho * rho)
+
+
+@njit(cache=True)
+def sound_speed2(rho, p, props, m):
+    """Bulk (isentropic) sound speed squared c^2 = dA/drho + P B/rho^2 (floored)."""
+    a, b, da = eos_ab(rho, props, m)
+    c2 = da + p * b / (rho * rho)
+    if props[m, P_EOS] == EOS_IDEAL_GAS:
+        floor = 1e-12
+    else:
+        floor = 1e-6 * props[m, P_C0] ** 2
+    return c2 if c2 > floor else floor
+
+
+@njit(cache=True)
+def temperature(rho, e, props, table, m):
+    """T = T0 + (e - e_s(mu))/c_v (Mie-Grueneisen) or e/c_v (ideal gas)."""
+    cv = props[m, P_CV]
+    if props[m, P_EOS] == EOS_IDEAL_GAS:
+        return e / cv
+    mu = rho / props[m, P_RHO0] - 1.0
+    lo = props[m, P_MU_LO]
+    hi = props[m, P_MU_HI]
+    f = (mu - lo) / (hi - lo) * (N_TABLE - 1)
+    if f <= 0.0:
+        es = table[m, 0]
+    elif f >= N_TABLE - 1:
+        es = table[m, N_TABLE - 1]
+    else:
+        k = int(f)
+        w = f - k
+        es = (1.0 - w) * table[m, k] + w * table[m, k + 1]
+    return props[m, P_T0] + (e - es) / cv
+
+
+def isentrope_table(props_row: np.ndarray) -> tuple[float, float, np.ndarray]:
+    """(mu_lo, mu_hi, e_s) for a Mie-Grueneisen row: de/dmu = (A + B e)/(rho0 (1+mu)^2), e(0) = 0.
+
+    Integrated by RK4 from mu = 0 outwards on a grid 8x finer than the table.
+    """
+    s = props_row[P_S]
+    eta_max = 0.9 / s if s > 1.0 else 0.9
+    mu_top = min(1.5, eta_max / (1.0 - eta_max))
+    h = (mu_top + 0.4) / (N_TABLE - 1)
+    mu_lo = -round(0.4 / h) * h  # mu = 0 is a grid point
+    mu_hi = mu_lo + (N_TABLE - 1) * h
+    mu = mu_lo + h * np.arange(N_TABLE)
+    row = props_row.reshape(1, -1)
+    rho0 = props_row[P_RHO0]
+
+    def rate(m, e):
+        a, b, _ = eos_ab(rho0 * (1.0 + m), row, 0)
+        return (a + b * e) / (rho0 * (1.0 + m) ** 2)
+
+    def integrate(m, e, target, nsub=8):
+        h = (target - m) / nsub
+        for _ in range(nsub):
+            k1 = rate(m, e)
+            k2 = rate(m + h / 2, e + h / 2 * k1)
+            k3 = rate(m + h / 2, e + h / 2 * k2)
+            k4 = rate(m + h, e + h * k3)
+            e += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            m += h
+        return e
+
+    i0 = int(np.argmin(np.abs(mu)))
+    out = np.zeros(N_TABLE)
+    out[i0] = integrate(0.0, 0.0, mu[i0])
+    for direction in (1, -1):
+        k = i0
+        while 0 <= k + direction < N_TABLE:
+            out[k + direction] = integrate(mu[k], out[k], mu[k + direction])
+            k += direction
+    return mu_lo, mu_hi, out

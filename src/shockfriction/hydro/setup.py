@@ -1,0 +1,317 @@
+"""From a validated :class:`~shockfriction.deck.run.RunDeck` to mesh, state arrays,
+boundary constraints, node groups and probes (no physics here beyond t = 0)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from shockfriction.deck.run import NODE_QUANTITIES, RunDeck
+from shockfriction.errors import DeckError
+from shockfriction.hydro import matprops as mp
+from shockfriction.hydro.eos import isentrope_table
+from shockfriction.hydro.kernels import cell_volumes, initial_cell_state, nodal_masses
+from shockfriction.hydro.state import State
+from shockfriction.materials.library import SCG_ORDER, get_material
+from shockfriction.mesh.assembly import Mesh
+from shockfriction.mesh.block import SIDES, Block
+
+IDEAL_GAS_DEFAULT_CV = 718.0  # J/(kg K), air; only used for the reported temperature
+
+
+@dataclass
+class Constraints:
+    """Velocity constraints v.n = value, applied in list order (symmetry, velocity, fixed)."""
+
+    node: np.ndarray
+    nx: np.ndarray
+    ny: np.ndarray
+    value: np.ndarray
+
+
+@dataclass
+class Groups:
+    """Node groups (ties, periodic pairs) in CSR form: members of group g are
+    ``nodes[ptr[g]:ptr[g+1]]``."""
+
+    ptr: np.ndarray
+    nodes: np.ndarray
+
+
+@dataclass
+class ProbeSpec:
+    name: str
+    kind: str  # "node" or "cell"
+    index: int
+    quantities: list[str]
+
+
+@dataclass
+class Problem:
+    """Everything the cycle needs, built from a deck."""
+
+    deck: RunDeck
+    mesh: Mesh
+    state: State
+    constraints: Constraints
+    groups: Groups
+    probes: list[ProbeSpec]
+
+
+def material_row(body, source: str) -> tuple[np.ndarray, np.ndarray]:
+    """Kernel parameter row and isentrope table of one body."""
+    row = mp.empty_props(1)[0]
+    table = np.zeros(mp.N_TABLE)
+    mat = get_material(body.material) if body.material else None
+    row[mp.P_T0] = body.temperature
+    if body.pressure_floor is not None:
+        row[mp.P_PMIN] = body.pressure_floor
+    if body.eos == "ideal-gas":
+        row[mp.P_EOS] = mp.EOS_IDEAL_GAS
+        row[mp.P_RHO0] = body.density
+        row[mp.P_GAMMA] = body.gamma
+        row[mp.P_CV] = body.heat_capacity or IDEAL_GAS_DEFAULT_CV
+    else:
+        row[mp.P_EOS] = mp.EOS_MIE_GRUNEISEN
+        for col, key, override in ((mp.P_C0, "eos_c0", body.c0), (mp.P_S, "eos_s", body.s),
+                                   (mp.P_GAMMA0, "eos_gamma0", body.gamma0)):
+            if override is not None:
+                row[col] = override
+            elif mat.has(key):
+                row[col] = getattr(mat, key)
+            else:
+                raise DeckError(f"{source}: material {mat.name!r} has no {key}; give it in the body")
+        row[mp.P_RHO0] = body.density if body.density is not None else mat.rho0
+        row[mp.P_CV] = body.heat_capacity or mat.heat_capacity
+        row[mp.P_MU_LO], row[mp.P_MU_HI], table = isentrope_table(row)
+    if body.strength == "elastic-perfectly-plastic":
+        row[mp.P_STRENGTH] = mp.STRENGTH_EPP
+        row[mp.P_G0] = body.shear_modulus if body.shear_modulus is not None else mat.G0
+        row[mp.P_Y0] = body.yield_stress if body.yield_stress is not None else mat.Y0
+    elif body.strength == "scg":
+        row[mp.P_STRENGTH] = mp.STRENGTH_SCG
+        params = mat.scg_params()
+        if body.shear_modulus is not None:
+            params[SCG_ORDER.index("G0")] = body.shear_modulus
+        if body.yield_stress is not None:
+            params[SCG_ORDER.index("Y0")] = body.yield_stress
+        row[mp.P_SCG:mp.P_SCG + 9] = params
+        row[mp.P_G0] = params[SCG_ORDER.index("G0")]
+        row[mp.P_G_CONST] = 1.0 if body.elastic_modulus == "constant" else 0.0
+    return row, table
+
+
+def _side_normal(mesh: Mesh, body: str, side: str, source: str) -> tuple[float, float]:
+    nodes = mesh.side_nodes(body, side)
+    px, py = mesh.x[nodes], mesh.y[nodes]
+    tx, ty = px[-1] - px[0], py[-1] - py[0]
+    length = np.hypot(tx, ty)
+    tx, ty = tx / length, ty / length
+    off = np.abs((px - px[0]) * ty - (py - py[0]) * tx)
+    if off.max() > 1e-9 * length:
+        raise DeckError(f"{source}: bodies.{body}.boundary.{side} = 'symmetry' needs a straight side")
+    return ty, -tx  # outward normal of a counter-clockwise side
+
+
+def _union_find_groups(n: int, pairs: list[tuple[int, int]]) -> Groups:
+    parent = np.arange(n)
+
+    def find(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for a, b in pairs:
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    members: dict[int, list[int]] = {}
+    for a in {x for p in pairs for x in p}:
+        members.setdefault(find(a), []).append(a)
+    groups = [sorted(v) for v in members.values() if len(v) > 1]
+    ptr = np.concatenate([[0], np.cumsum([len(g) for g in groups])]).astype(np.int64)
+    nodes = np.array([x for g in groups for x in g], dtype=np.int64)
+    return Groups(ptr, nodes)
+
+
+def _match_tie(mesh: Mesh, ref_a: str, ref_b: str, source: str) -> list[tuple[int, int]]:
+    ba, _, sa = ref_a.partition(".")
+    bb, _, sb = ref_b.partition(".")
+    na, nb = mesh.side_nodes(ba, sa), mesh.side_nodes(bb, sb)
+    if len(na) != len(nb):
+        raise DeckError(f"{source}: tie {ref_a} / {ref_b}: the sides have {len(na)} and {len(nb)} nodes; "
+                        "a tie needs matching nodes")
+    pa = np.column_stack([mesh.x[na], mesh.y[na]])
+    seg = np.hypot(*np.diff(pa, axis=0).T).min()
+    for order in (nb[::-1], nb):
+        pb = np.column_stack([mesh.x[order], mesh.y[order]])
+        if np.abs(pa - pb).max() <= 1e-6 * seg:
+            return list(zip(na.tolist(), order.tolist()))
+    raise DeckError(f"{source}: tie {ref_a} / {ref_b}: the node positions do not coincide "
+                    "(a tie needs matching, coincident nodes; use a slide line otherwise)")
+
+
+def _probe(deck: RunDeck, mesh: Mesh, k: int, source: str) -> list[ProbeSpec]:
+    p = deck.probes[k]
+    b = mesh.body_index(p.body)
+    blk = mesh.blocks[b]
+    node_q = [q for q in p.quantities if q in NODE_QUANTITIES]
+    cell_q = [q for q in p.quantities if q not in NODE_QUANTITIES]
+    out = []
+    if p.node is not None:
+        i, j = p.node
+        if not (-(blk.nx + 1) <= i <= blk.nx and -(blk.ny + 1) <= j <= blk.ny):
+            raise DeckError(f"{source}: probes[{k}].node = {list(p.node)}: outside the {blk.nx + 1} x "
+                            f"{blk.ny + 1} nodes of body {p.body!r}")
+        out.append(ProbeSpec(p.name, "node", mesh.node_index(b, i, j), node_q))
+    elif p.cell is not None:
+        i, j = p.cell
+        if not (-blk.nx <= i < blk.nx and -blk.ny <= j < blk.ny):
+            raise DeckError(f"{source}: probes[{k}].cell = {list(p.cell)}: outside the {blk.nx} x {blk.ny} "
+                            f"cells of body {p.body!r}")
+        out.append(ProbeSpec(p.name, "cell", mesh.cell_index(b, i, j), cell_q))
+    else:
+        px, py = p.at
+        s0, s1 = mesh.node_start[b], mesh.node_start[b + 1]
+        if node_q:
+            d = np.hypot(mesh.x[s0:s1] - px, mesh.y[s0:s1] - py)
+            out.append(ProbeSpec(p.name, "node", int(s0 + np.argmin(d)), node_q))
+        if cell_q:
+            c0, c1 = mesh.cell_start[b], mesh.cell_start[b + 1]
+            conn = mesh.conn[c0:c1]
+            cx = mesh.x[conn].mean(axis=1)
+            cy = mesh.y[conn].mean(axis=1)
+            out.append(ProbeSpec(p.name, "cell", int(c0 + np.argmin(np.hypot(cx - px, cy - py))), cell_q))
+    return out
+
+
+def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
+    """Mesh every body, number globally, set initial state, constraints, groups, probes."""
+    blocks = [Block.from_outline(b.mesh.corners, b.mesh.nx, b.mesh.ny, b.mesh.sides, b.mesh.ratio_x,
+                                 b.mesh.ratio_y) for b in deck.bodies]
+    names = [b.name for b in deck.bodies]
+    mesh = Mesh(names, blocks)
+    axi = deck.geometry == "axisymmetric"
+    nb = len(deck.bodies)
+    props = mp.empty_props(nb)
+    tables = np.zeros((nb, mp.N_TABLE))
+    for k, body in enumerate(deck.bodies):
+        props[k], tables[k] = material_row(body, source)
+    mat = mesh.cell_body.copy()
+    vol = np.zeros(mesh.n_cells)
+    cell_volumes(mesh.conn, mesh.x, mesh.y, axi, vol)
+    if np.any(vol <= 0.0):
+        c = int(np.argmin(vol))
+        name, i, j = mesh.cell_ij(c)
+        raise DeckError(f"{source}: body {name!r}: cell ({i}, {j}) has a non-positive volume at t = 0 "
+                        "(check the corners' order and the side polylines)")
+    rho = props[mat, mp.P_RHO0].copy()
+    cmass = rho * vol
+    mass_own = np.zeros(mesh.n_nodes)
+    nodal_masses(mesh.conn, mesh.x, mesh.y, rho, axi, mass_own)
+    e = np.zeros(mesh.n_cells)
+    for k, body in enumerate(deck.bodies):
+        if body.eos == "ideal-gas":
+            sel = mat == k
+            e[sel] = body.specific_energy if body.specific_energy is not None else \
+                body.pressure / ((body.gamma - 1.0) * body.density)
+    vx = np.zeros(mesh.n_nodes)
+    vy = np.zeros(mesh.n_nodes)
+    for k, body in enumerate(deck.bodies):
+        s0, s1 = mesh.node_start[k], mesh.node_start[k + 1]
+        vx[s0:s1], vy[s0:s1] = body.velocity
+
+    # ---- node groups: periodic sides and ties
+    pairs: list[tuple[int, int]] = []
+    for k, body in enumerate(deck.bodies):
+        bnd, blk = body.boundary, blocks[k]
+        if bnd.left == "periodic":
+            left = mesh.side_nodes(k, "left")[::-1]
+            right = mesh.side_nodes(k, "right")
+            shift = np.column_stack([mesh.x[right] - mesh.x[left], mesh.y[right] - mesh.y[left]])
+            if np.abs(shift - shift[0]).max() > 1e-9 * np.hypot(*shift[0]):
+                raise DeckError(f"{source}: body {body.name!r}: periodic left/right sides must be translates")
+            pairs += list(zip(left.tolist(), right.tolist()))
+        if bnd.bottom == "periodic":
+            bottom = mesh.side_nodes(k, "bottom")
+            top = mesh.side_nodes(k, "top")[::-1]
+            shift = np.column_stack([mesh.x[top] - mesh.x[bottom], mesh.y[top] - mesh.y[bottom]])
+            if np.abs(shift - shift[0]).max() > 1e-9 * np.hypot(*shift[0]):
+                raise DeckError(f"{source}: body {body.name!r}: periodic bottom/top sides must be translates")
+            pairs += list(zip(bottom.tolist(), top.tolist()))
+        del blk
+    for tie in deck.ties:
+        pairs += _match_tie(mesh, tie.sides[0], tie.sides[1], source)
+    groups = _union_find_groups(mesh.n_nodes, pairs)
+    mass = mass_own.copy()
+    for g in range(len(groups.ptr) - 1):
+        members = groups.nodes[groups.ptr[g]:groups.ptr[g + 1]]
+        mg = mass_own[members].sum()
+        mass[members] = mg
+        vx[members] = (mass_own[members] * vx[members]).sum() / mg
+        vy[members] = (mass_own[members] * vy[members]).sum() / mg
+
+    # ---- boundary constraints (symmetry first, then prescribed velocity, then fixed)
+    rows: dict[int, list] = {0: [], 1: [], 2: []}
+    for k, body in enumerate(deck.bodies):
+        for side in SIDES:
+            kind = getattr(body.boundary, side)
+            nodes = mesh.side_nodes(k, side)
+            if kind == "symmetry":
+                nxn, nyn = _side_normal(mesh, body.name, side, source)
+                rows[0] += [(n, nxn, nyn, 0.0) for n in nodes]
+            elif kind == "fixed":
+                rows[2] += [(n, 1.0, 0.0, 0.0) for n in nodes] + [(n, 0.0, 1.0, 0.0) for n in nodes]
+            elif not isinstance(kind, str):
+                if kind.vx is not None:
+                    rows[1] += [(n, 1.0, 0.0, kind.vx) for n in nodes]
+                    vx[nodes] = kind.vx
+                if kind.vy is not None:
+                    rows[1] += [(n, 0.0, 1.0, kind.vy) for n in nodes]
+                    vy[nodes] = kind.vy
+    member_of = {}
+    for g in range(len(groups.ptr) - 1):
+        members = groups.nodes[groups.ptr[g]:groups.ptr[g + 1]].tolist()
+        for n in members:
+            member_of[n] = members
+    table = []
+    seen = set()
+    for pri in (0, 1, 2):
+        for n, a, b, v in rows[pri]:
+            for m in member_of.get(int(n), [int(n)]):
+                key = (m, round(a, 12), round(b, 12), round(v, 9), pri)
+                if key not in seen:
+                    seen.add(key)
+                    table.append((m, a, b, v))
+    if table:
+        arr = np.array(table, dtype=float)
+        constraints = Constraints(arr[:, 0].astype(np.int64), arr[:, 1].copy(), arr[:, 2].copy(), arr[:, 3].copy())
+    else:
+        constraints = Constraints(np.zeros(0, np.int64), np.zeros(0), np.zeros(0), np.zeros(0))
+
+    state = State(axisymmetric=axi, conn=mesh.conn.copy(), x=mesh.x.copy(), y=mesh.y.copy(), vx=vx, vy=vy,
+                  mass=mass, mass_own=mass_own, cell_mass=cmass, volume=vol, rho=rho, e=e, mat=mat,
+                  props=props, isentrope=tables)
+    initial_cell_state(state.mat, state.props, state.isentrope, state.rho, state.e, state.pressure,
+                       state.temperature, state.shear_modulus, state.yield_stress, state.sound_speed, state.eps_p)
+    probes = [s for k in range(len(deck.probes)) for s in _probe(deck, mesh, k, source)]
+    return Problem(deck, mesh, state, constraints, groups, probes)
+
+
+def build_slide_lines(problem: Problem, simulation) -> list:
+    """Interface objects for the deck's ``slide_lines`` (built by the contact module).
+
+    The contact module provides ``shockfriction.contact.build.build_interfaces(
+    entries, simulation) -> list`` of objects with ``apply(state, dt, t, cycle)``.
+    """
+    entries = problem.deck.slide_lines
+    if not entries:
+        return []
+    try:
+        from shockfriction.contact.build import build_interfaces
+    except ImportError:
+        raise DeckError("slide_lines are given but this installation has no contact module "
+                        "(shockfriction.contact.build)") from None
+    return list(build_interfaces(entries, simulation))

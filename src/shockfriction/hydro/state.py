@@ -1,0 +1,117 @@
+"""The hydrocode state as a struct of arrays (SI units; per unit depth in plane
+strain, per radian in axisymmetry).
+
+Nodes (index n): ``x, y`` positions at t^n; ``vx, vy`` velocities at t^{n+1/2}
+(during an interface's ``apply`` they hold the free, then corrected, velocities);
+``mass`` the group mass used for accelerations and impulses (a tied or periodic
+node group shares it), ``mass_own`` the node's own lumped mass (sum over groups
+for totals); ``fx, fy`` the last nodal forces.
+
+Cells (index c): ``conn[c]`` four global node indices (counter-clockwise);
+``cell_mass``, ``volume``, ``rho``, ``e`` (specific internal energy e_M used by
+the EOS), ``e_el`` (stored elastic shear energy per mass), ``pressure`` (EOS,
+compression positive), ``q`` (artificial viscosity), deviator ``sxx, syy, sxy``
+(szz = -(sxx+syy) is the out-of-plane / hoop component), ``eps_p``,
+``temperature``, ``shear_modulus``, ``yield_stress``, ``sound_speed``
+(longitudinal), ``mat`` (row of ``props``; one row per body).
+
+Time: ``t`` (t^n), ``cycle`` (n), ``dt`` (the position step dt^{n+1/2}) and
+``dt_velocity`` (the velocity step dt^n = (dt^{n-1/2} + dt^{n+1/2})/2).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class EnergyBudget:
+    """Cumulative energy exchanges (J per unit depth, or per radian) since t = 0.
+
+    The balance is kinetic + internal = initial + boundary_work + interface_work
+    + interface_heat.  ``interface_work`` is measured by the cycle (work of the
+    interface velocity corrections, <= 0 for friction and inelastic contact);
+    ``interface_heat`` is what interface objects put into cells' internal energy
+    (they add it here themselves); friction work is added by interfaces to
+    ``friction_work`` for reporting (it is part of ``interface_work``).
+    """
+
+    initial: float = 0.0
+    boundary_work: float = 0.0
+    interface_work: float = 0.0
+    interface_heat: float = 0.0
+    friction_work: float = 0.0
+
+
+@dataclass
+class State:
+    """All arrays of the problem; see the module docstring for the meaning of each."""
+
+    axisymmetric: bool
+    conn: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    vx: np.ndarray
+    vy: np.ndarray
+    mass: np.ndarray
+    mass_own: np.ndarray
+    cell_mass: np.ndarray
+    volume: np.ndarray
+    rho: np.ndarray
+    e: np.ndarray
+    mat: np.ndarray
+    props: np.ndarray
+    isentrope: np.ndarray
+    fx: np.ndarray = None
+    fy: np.ndarray = None
+    e_el: np.ndarray = None
+    pressure: np.ndarray = None
+    q: np.ndarray = None
+    sxx: np.ndarray = None
+    syy: np.ndarray = None
+    sxy: np.ndarray = None
+    eps_p: np.ndarray = None
+    temperature: np.ndarray = None
+    shear_modulus: np.ndarray = None
+    yield_stress: np.ndarray = None
+    sound_speed: np.ndarray = None
+    t: float = 0.0
+    cycle: int = 0
+    dt: float = 0.0
+    dt_velocity: float = 0.0
+    energy: EnergyBudget = field(default_factory=EnergyBudget)
+
+    def __post_init__(self):
+        nn, nc = self.x.shape[0], self.conn.shape[0]
+        for name in ("fx", "fy"):
+            if getattr(self, name) is None:
+                setattr(self, name, np.zeros(nn))
+        for name in ("e_el", "pressure", "q", "sxx", "syy", "sxy", "eps_p", "temperature", "shear_modulus",
+                     "yield_stress", "sound_speed"):
+            if getattr(self, name) is None:
+                setattr(self, name, np.zeros(nc))
+
+    @property
+    def n_nodes(self) -> int:
+        return self.x.shape[0]
+
+    @property
+    def n_cells(self) -> int:
+        return self.conn.shape[0]
+
+    @property
+    def szz(self) -> np.ndarray:
+        """Out-of-plane (hoop) deviator -(sxx + syy)."""
+        return -(self.sxx + self.syy)
+
+    def stress(self) -> dict[str, np.ndarray]:
+        """Cauchy stress components sigma = S - (P + q) 1 (tension positive)."""
+        ptot = self.pressure + self.q
+        return {"xx": self.sxx - ptot, "yy": self.syy - ptot, "xy": self.sxy.copy(), "zz": self.szz - ptot}
+
+    @property
+    def geometry_factor(self) -> float:
+        """2 pi in axisymmetry (per-radian arrays -> whole body), 1 in plane strain."""
+        return 2.0 * np.pi if self.axisymmetric else 1.0
