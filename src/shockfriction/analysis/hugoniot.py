@@ -291,3 +291,22 @@ def elastic_hel_linear(eos: LinearHugoniotEOS, shear_modulus: float, yield_stres
 def longitudinal_sound_speed(eos: LinearHugoniotEOS, shear_modulus: float) -> float:
     """c_L = sqrt((K + 4G/3) / rho0)."""
     return float(np.sqrt((eos.bulk_modulus + 4.0 / 3.0 * shear_modulus) / eos.rho0))
+
+
+def free_surface_velocity_estimate(eos: LinearHugoniotEOS, shear_modulus: float,
+                                   solution: TwoWaveSolution) -> float:
+    """Free-surface velocity after a two-wave shock reaches a free surface (estimate).
+
+    Hydrodynamic part: up + the isentropic release velocity (about 2 up).  Strength
+    correction, first order in the HEL: the release unloads elastically over twice the
+    HEL and the loading only over once, u_fs - 2 up ~ sigma_HEL (1/Z_L - 1/Z_B) with
+    Z_L = rho0 c_L, Z_B = rho0 c0 (negative: strength lowers the free-surface velocity).
+    It ignores the interaction of the reflected precursor with the plastic shock.
+    """
+    up = solution.final.u
+    hydro = up + eos.isentropic_release_velocity(eos.hugoniot_density_of_up(up), 0.5 * up * up)
+    if not solution.two_waves:
+        return 2.0 * up
+    z_l = eos.rho0 * longitudinal_sound_speed(eos, shear_modulus)
+    z_b = eos.rho0 * eos.c0
+    return hydro + solution.hel * (1.0 / z_l - 1.0 / z_b)
