@@ -115,3 +115,14 @@ def test_free_surface_release_is_about_twice_up():
         u_fs = up + eos.isentropic_release_velocity(state.target_density, 0.5 * up * up)
         assert u_fs == pytest.approx(2.0 * up, rel=1e-3)
         assert u_fs > 2.0 * up  # the isentrope is softer than the Hugoniot: slightly more
+
+
+def test_scg_yield_function_matches_library_law():
+    from shockfriction.materials.library import get_material
+    mat = get_material("Al6061-T6")
+    y_of = H.scg_yield_function(mat)
+    melt = np.exp(-mat.scg_xi * 300.0 / (mat.melting_temperature - 300.0))
+    assert y_of(0.0, 0.0) == pytest.approx(mat.Y0 * melt, rel=1e-12)
+    p, eps = 2e9, 0.01
+    expected = min(mat.Ymax, mat.Y0 * (1 + mat.scg_beta * eps) ** mat.scg_n) * (1 + mat.scg_g * p) * melt
+    assert y_of(p, eps) == pytest.approx(expected, rel=1e-12)

@@ -37,6 +37,33 @@ def _sod_study(resolutions):
     return h, err, order
 
 
+def test_sod_star_state_plateaus():
+    """Pressure and velocity between the rarefaction tail and the shock, density of both star states."""
+    deck = read_deck(DECKS / "sod.toml")
+    for body in deck["bodies"]:
+        body["mesh"]["ny"] = 200
+    result = run(deck)
+    prof = strip_profile(result.state, "y")
+    star = riemann.solve_star(SOD_LEFT, SOD_RIGHT, 1.4)
+    x = (prof["coord"] - 0.5) / result.state.t  # similarity coordinate
+    c_star_l = np.sqrt(1.4 * star.p / star.rho_left)
+    c_r = np.sqrt(1.4 * SOD_RIGHT.p / SOD_RIGHT.rho)
+    shock = c_r * np.sqrt(2.4 / 2.8 * star.p / SOD_RIGHT.p + 0.4 / 2.8)  # right shock speed (1.7522)
+    left_star = (x > star.u - c_star_l + 0.15) & (x < star.u - 0.15)
+    right_star = (x > star.u + 0.15) & (x < shock - 0.15)
+    both = left_star | right_star
+    checks = {
+        "p*": (np.median(prof["p"][both]), star.p),
+        "u*": (np.median(prof["velocity"][both]), star.u),
+        "rho*_L": (np.median(prof["rho"][left_star]), star.rho_left),
+        "rho*_R": (np.median(prof["rho"][right_star]), star.rho_right),
+    }
+    print("\nSod star states (2x200 cells): " + ", ".join(
+        f"{k} {got:.5f} vs {ref:.5f} ({got / ref - 1:+.1e})" for k, (got, ref) in checks.items()))
+    for name, (got, ref) in checks.items():
+        assert got == pytest.approx(ref, rel=0.01), name
+
+
 def test_sod_l1_error_falls_with_refinement():
     h, err, order = _sod_study((50, 100, 200))
     # measured 5.3e-3, 2.7e-3, 1.8e-3: first order at shocks, less at the contact (~0.5 for

@@ -310,3 +310,16 @@ def free_surface_velocity_estimate(eos: LinearHugoniotEOS, shear_modulus: float,
     z_l = eos.rho0 * longitudinal_sound_speed(eos, shear_modulus)
     z_b = eos.rho0 * eos.c0
     return hydro + solution.hel * (1.0 / z_l - 1.0 / z_b)
+
+
+def scg_yield_function(material, temperature: float = 300.0) -> YieldFunction:
+    """Y(P, eps_p) of the library's SCG model (materials/strength.py) at a fixed temperature.
+
+    For the two-wave solution with SCG strength; the shock heating of a few kelvin at
+    plate-impact pressures changes G/G0 by h dT ~ 1e-3 and is left out.
+    """
+    from shockfriction.materials.strength import yield_stress
+
+    def y_of(pressure: float, plastic_strain: float) -> float:
+        return float(yield_stress(material, plastic_strain, pressure, temperature))
+    return y_of
