@@ -85,11 +85,12 @@ class Simulation:
         self._vy_old = np.empty(nn)
         self._vx_free = np.empty(nn)
         self._vy_free = np.empty(nn)
+        self._corner = np.zeros((nc, 8))
+        self._dtcell = np.empty(nc)
+        self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
-            self._corner = np.zeros((nc, 8))
+            numba.set_num_threads(self.threads)
             self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
-            self._dtcell = np.empty(nc)
-            self._errcell = np.zeros(nc, dtype=np.int64)
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
         self._grp = (problem.groups.ptr, problem.groups.nodes)
@@ -119,6 +120,17 @@ class Simulation:
             f"body {name!r}, cell ({i}, {j}) [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
+    def _forces(self, dt: float) -> None:
+        """Nodal forces F^n into state.fx, fy (hourglass heat dt * power into e)."""
+        s = self.state
+        corner = K.corner_forces_parallel if self.parallel else K.corner_forces_serial
+        corner(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+               s.cell_mass, s.e, s.axisymmetric, self.hg, dt, self._corner)
+        if self.parallel:
+            K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
+        else:
+            K.scatter_forces(s.conn, self._corner, s.fx, s.fy)
+
     # ------------------------------------------------------------------ one cycle
     def step(self) -> None:
         s = self.state
@@ -127,15 +139,11 @@ class Simulation:
         s.dt_velocity = dtv
         ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
         # 1-2 forces
-        if self.parallel:
-            K.forces_parallel(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho,
-                              s.sound_speed, s.cell_mass, s.e, s.axisymmetric, self.hg, dtv, s.fx, s.fy,
-                              self._corner, self._node_ptr, self._node_corner)
-        else:
-            K.forces_serial(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho,
-                            s.sound_speed, s.cell_mass, s.e, s.axisymmetric, self.hg, dtv, s.fx, s.fy)
+        self._forces(dtv)
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
+        en = s.energy
+        before = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
         # 3 free velocities and boundary constraints
         self._vx_old[:] = s.vx
         self._vy_old[:] = s.vy
@@ -157,22 +165,20 @@ class Simulation:
             s.energy.boundary_work += K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own,
                                                           *self._cons, dtv)
         if s.cycle % self.probe_every == 0:
-            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own), ie)
+            # the exchanges of this step are centred at t^n: half of them count at t^n
+            after = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
+            mid = tuple(0.5 * (a + b) for a, b in zip(before, after))
+            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own),
+                         ie + 0.5 * (after[2] - before[2]), mid)
         # 5 positions
         K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
         # 6 cells
-        if self.parallel:
-            dtn, bad, code = K.update_cells_parallel(
-                s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
-                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
-                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-                self.dvmax, self._dtcell, self._errcell)
-        else:
-            dtn, bad, code = K.update_cells_serial(
-                s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
-                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
-                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-                self.dvmax)
+        update = K.update_cells_parallel if self.parallel else K.update_cells_serial
+        update(s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+               s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+               s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
+               self.dvmax, self._dtcell, self._errcell)
+        dtn, bad, code = K.reduce_time_step(self._dtcell, self._errcell)
         if bad >= 0:
             self._fail(bad, code)
         s.t += dt
@@ -187,14 +193,17 @@ class Simulation:
         s.dt = dtn
 
     # ------------------------------------------------------------------ histories
-    def _record(self, ke: float, ie: float) -> None:
+    def _record(self, ke: float, ie: float, budget: tuple | None = None) -> None:
+        """One history row at t^n; ``budget`` = (boundary work, interface work, interface heat,
+        friction work) at t^n (default: the running totals)."""
         s = self.state
         f = s.geometry_factor
         en = s.energy
+        wbc, wint, qint, fw = budget if budget is not None else (
+            en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
         total = ke + ie
-        err = total - (en.initial + en.boundary_work + en.interface_work + en.interface_heat)
-        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * en.boundary_work, f * en.interface_work,
-                                 f * en.interface_heat, f * en.friction_work, f * err))
+        err = total - (en.initial + wbc + wint + qint)
+        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * err))
         if self.problem.probes:
             row = [s.t]
             for p in self.problem.probes:
@@ -229,10 +238,8 @@ class Simulation:
         """Add the state at the final time (kinetic energy from a half step of the final forces)."""
         s = self.state
         ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
-        e_save = s.e.copy()
         fx, fy = s.fx.copy(), s.fy.copy()
-        K.forces_serial(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
-                        s.cell_mass, s.e, s.axisymmetric, self.hg, 0.0, s.fx, s.fy)
+        self._forces(0.0)
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
         self._vx_old[:] = s.vx
@@ -240,7 +247,6 @@ class Simulation:
         vx, vy = s.vx.copy(), s.vy.copy()
         K.advance_velocities(vx, vy, s.fx, s.fy, s.mass, 0.5 * self._dt_prev)
         K.apply_constraints(vx, vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, 0.0)
-        s.e[:] = e_save
         s.fx[:], s.fy[:] = fx, fy
         ke = K.kinetic_energy(vx, vy, s.mass_own)
         vsave = (s.vx, s.vy)

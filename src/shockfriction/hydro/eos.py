@@ -26,14 +26,10 @@ from shockfriction.hydro.matprops import (
 
 
 @njit(cache=True)
-def eos_ab(rho, props, m):
-    """(A, B, dA/drho) of P = A + B e for body ``m`` at density ``rho``."""
-    if props[m, P_EOS] == EOS_IDEAL_GAS:
-        return 0.0, (props[m, P_GAMMA] - 1.0) * rho, 0.0
-    rho0 = props[m, P_RHO0]
-    c0 = props[m, P_C0]
-    s = props[m, P_S]
-    g0 = props[m, P_GAMMA0]
+def eos_ab_s(rho, kind, rho0, c0, s, g0, gamma):
+    """(A, B, dA/drho) of P = A + B e from scalar parameters (kind: 0 Mie-Grueneisen, 1 ideal gas)."""
+    if kind == EOS_IDEAL_GAS:
+        return 0.0, (gamma - 1.0) * rho, 0.0
     k0 = rho0 * c0 * c0
     eta = 1.0 - rho0 / rho
     if eta <= 0.0:
@@ -49,15 +45,26 @@ def eos_ab(rho, props, m):
 
 
 @njit(cache=True)
-def sound_speed2(rho, p, props, m):
-    """Bulk (isentropic) sound speed squared c^2 = dA/drho + P B/rho^2 (floored)."""
-    a, b, da = eos_ab(rho, props, m)
+def sound_speed2_s(rho, p, kind, rho0, c0, s, g0, gamma):
+    """Bulk (isentropic) sound speed squared c^2 = dA/drho + P B/rho^2, floored."""
+    a, b, da = eos_ab_s(rho, kind, rho0, c0, s, g0, gamma)
     c2 = da + p * b / (rho * rho)
-    if props[m, P_EOS] == EOS_IDEAL_GAS:
-        floor = 1e-12
-    else:
-        floor = 1e-6 * props[m, P_C0] ** 2
+    floor = 1e-12 if kind == EOS_IDEAL_GAS else 1e-6 * c0 * c0
     return c2 if c2 > floor else floor
+
+
+@njit(cache=True)
+def eos_ab(rho, props, m):
+    """(A, B, dA/drho) of P = A + B e for body ``m`` at density ``rho``."""
+    return eos_ab_s(rho, props[m, P_EOS], props[m, P_RHO0], props[m, P_C0], props[m, P_S], props[m, P_GAMMA0],
+                    props[m, P_GAMMA])
+
+
+@njit(cache=True)
+def sound_speed2(rho, p, props, m):
+    """Bulk (isentropic) sound speed squared for body m."""
+    return sound_speed2_s(rho, p, props[m, P_EOS], props[m, P_RHO0], props[m, P_C0], props[m, P_S],
+                          props[m, P_GAMMA0], props[m, P_GAMMA])
 
 
 @njit(cache=True)

@@ -32,6 +32,70 @@ def quad_area(x0, x1, x2, x3, y0, y1, y2, y3):
 
 
 @njit(cache=True)
+def bvec_planar(x0, x1, x2, x3, y0, y1, y2, y3):
+    """Plane strain: (bx0..bx3, by0..by3, area), bx_i = dA/dx_i (Wilkins's formulas)."""
+    return (0.5 * (y1 - y3), 0.5 * (y2 - y0), 0.5 * (y3 - y1), 0.5 * (y0 - y2),
+            0.5 * (x3 - x1), 0.5 * (x0 - x2), 0.5 * (x1 - x3), 0.5 * (x2 - x0),
+            0.5 * ((x2 - x0) * (y3 - y1) - (x3 - x1) * (y2 - y0)))
+
+
+@njit(cache=True)
+def bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3):
+    """Axisymmetric (x = r, per radian): (bx0..3, by0..3, h0..3, V) by 2x2 Gauss quadrature."""
+    bx0 = bx1 = bx2 = bx3 = 0.0
+    by0 = by1 = by2 = by3 = 0.0
+    h0 = h1 = h2 = h3 = 0.0
+    vol = 0.0
+    for gi in range(2):
+        xi = -_G if gi == 0 else _G
+        for gj in range(2):
+            eta = -_G if gj == 0 else _G
+            # shape-function derivatives of nodes (-1,-1), (1,-1), (1,1), (-1,1)
+            a0 = -0.25 * (1.0 - eta)
+            a1 = 0.25 * (1.0 - eta)
+            a2 = 0.25 * (1.0 + eta)
+            a3 = -0.25 * (1.0 + eta)
+            c0 = -0.25 * (1.0 - xi)
+            c1 = -0.25 * (1.0 + xi)
+            c2 = 0.25 * (1.0 + xi)
+            c3 = 0.25 * (1.0 - xi)
+            n0 = 0.25 * (1.0 - xi) * (1.0 - eta)
+            n1 = 0.25 * (1.0 + xi) * (1.0 - eta)
+            n2 = 0.25 * (1.0 + xi) * (1.0 + eta)
+            n3 = 0.25 * (1.0 - xi) * (1.0 + eta)
+            x_xi = a0 * x0 + a1 * x1 + a2 * x2 + a3 * x3
+            x_eta = c0 * x0 + c1 * x1 + c2 * x2 + c3 * x3
+            y_xi = a0 * y0 + a1 * y1 + a2 * y2 + a3 * y3
+            y_eta = c0 * y0 + c1 * y1 + c2 * y2 + c3 * y3
+            r = n0 * x0 + n1 * x1 + n2 * x2 + n3 * x3
+            jac = x_xi * y_eta - x_eta * y_xi
+            vol += jac * r
+            bx0 += (a0 * y_eta - c0 * y_xi) * r
+            bx1 += (a1 * y_eta - c1 * y_xi) * r
+            bx2 += (a2 * y_eta - c2 * y_xi) * r
+            bx3 += (a3 * y_eta - c3 * y_xi) * r
+            by0 += (c0 * x_xi - a0 * x_eta) * r
+            by1 += (c1 * x_xi - a1 * x_eta) * r
+            by2 += (c2 * x_xi - a2 * x_eta) * r
+            by3 += (c3 * x_xi - a3 * x_eta) * r
+            h0 += n0 * jac
+            h1 += n1 * jac
+            h2 += n2 * jac
+            h3 += n3 * jac
+    return bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, vol
+
+
+@njit(cache=True)
+def min_jacobian(x0, x1, x2, x3, y0, y1, y2, y3):
+    """Smallest corner cross product (<= 0: inverted or bow-tie cell)."""
+    j0 = (x1 - x0) * (y3 - y0) - (y1 - y0) * (x3 - x0)
+    j1 = (x2 - x1) * (y0 - y1) - (y2 - y1) * (x0 - x1)
+    j2 = (x3 - x2) * (y1 - y2) - (y3 - y2) * (x1 - x2)
+    j3 = (x0 - x3) * (y2 - y3) - (y0 - y3) * (x2 - x3)
+    return min(min(j0, j1), min(j2, j3))
+
+
+@njit(cache=True)
 def bvectors(xs, ys, axi, bx, by, h):
     """Fill bx, by, h (length 4) for the quad (xs, ys); return the volume V."""
     if not axi:

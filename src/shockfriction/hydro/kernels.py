@@ -1,6 +1,7 @@
 """The numba kernels of one Wilkins cycle (thesis Fig. 3.7, errata resolved).
 
-* :func:`forces_serial` / :func:`forces_parallel`: nodal forces F^n from the cell
+* :func:`corner_forces_serial` / :func:`corner_forces_parallel` then
+  :func:`scatter_forces` / :func:`gather_forces`: nodal forces F^n from the cell
   stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the viscous
   Flanagan-Belytschko hourglass force on v^{n-1/2} (its dissipated power is put
   into the cell's internal energy).
@@ -24,10 +25,17 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from shockfriction.hydro.eos import eos_ab, sound_speed2, temperature
-from shockfriction.hydro.geometry import bvectors, corner_weights, min_corner_jacobian, quad_area
-from shockfriction.hydro.matprops import P_PMIN, P_STRENGTH, STRENGTH_NONE
-from shockfriction.hydro.plasticity import radial_return, rotate_deviator, shear_modulus_and_ratio, yield_stress
+from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_s, temperature
+from shockfriction.hydro.geometry import bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area
+from shockfriction.hydro.matprops import (
+    EOS_IDEAL_GAS, STRENGTH_EPP, P_C0, P_CV, P_EOS, P_G0, P_G_CONST, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_PMIN, P_RHO0, P_S,
+    P_SCG, P_STRENGTH, P_T0, P_Y0, STRENGTH_NONE,
+)
+from shockfriction.hydro.plasticity import (
+    radial_return_s, rotate_deviator, shear_modulus_and_ratio, shear_modulus_and_ratio_s, yield_stress,
+    yield_stress_s,
+)
+from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
 
 ERR_NONE = 0
 ERR_INVERTED = 1
@@ -35,106 +43,95 @@ ERR_NAN = 2
 ERR_MESSAGES = {ERR_INVERTED: "inverted or degenerate cell (non-positive volume or corner Jacobian)",
                 ERR_NAN: "non-finite value (position, energy or pressure)"}
 
-_HG_GAMMA = (1.0, -1.0, 1.0, -1.0)
-
 
 # --------------------------------------------------------------------------- forces
 
-@njit(cache=True)
-def _cell_forces(c, conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, hg, out, xs, ys, bx, by, hh):
-    """Corner forces of cell c into out[0:8] (fx0..fx3, fy0..fy3); return the hourglass power."""
-    for k in range(4):
-        n = conn[c, k]
-        xs[k] = x[n]
-        ys[k] = y[n]
-    bvectors(xs, ys, axi, bx, by, hh)
-    ptot = p[c] + q[c]
-    a_xx = sxx[c] - ptot
-    a_yy = syy[c] - ptot
-    a_tt = -(sxx[c] + syy[c]) - ptot
-    a_xy = sxy[c]
-    for k in range(4):
-        out[k] = -(a_xx * bx[k] + a_xy * by[k] + a_tt * hh[k])
-        out[4 + k] = -(a_xy * bx[k] + a_yy * by[k])
-    if hg <= 0.0:
-        return 0.0
-    # Flanagan-Belytschko viscous hourglass: gamma = Gamma - (Gamma.x) b_x/A - (Gamma.y) b_y/A
-    area = quad_area(xs[0], xs[1], xs[2], xs[3], ys[0], ys[1], ys[2], ys[3])
-    if area <= 0.0:
-        return 0.0
-    gx = 0.0
-    gy = 0.0
-    for k in range(4):
-        gx += _HG_GAMMA[k] * xs[k]
-        gy += _HG_GAMMA[k] * ys[k]
-    # planar b vectors (dA/dx_k) for the projection
-    pbx0 = 0.5 * (ys[1] - ys[3])
-    pbx1 = 0.5 * (ys[2] - ys[0])
-    pby0 = 0.5 * (xs[3] - xs[1])
-    pby1 = 0.5 * (xs[0] - xs[2])
-    hu = 0.0
-    hv = 0.0
-    gam0 = _HG_GAMMA[0] - (gx * pbx0 + gy * pby0) / area
-    gam1 = _HG_GAMMA[1] - (gx * pbx1 + gy * pby1) / area
-    gam2 = _HG_GAMMA[2] - (gx * (-pbx0) + gy * (-pby0)) / area
-    gam3 = _HG_GAMMA[3] - (gx * (-pbx1) + gy * (-pby1)) / area
-    n0 = conn[c, 0]
-    n1 = conn[c, 1]
-    n2 = conn[c, 2]
-    n3 = conn[c, 3]
-    hu = gam0 * vx[n0] + gam1 * vx[n1] + gam2 * vx[n2] + gam3 * vx[n3]
-    hv = gam0 * vy[n0] + gam1 * vy[n1] + gam2 * vy[n2] + gam3 * vy[n3]
-    w = 1.0
-    if axi:
-        w = 0.25 * (xs[0] + xs[1] + xs[2] + xs[3])
-    coef = 0.25 * hg * rho[c] * cs[c] * math.sqrt(area) * w
-    out[0] -= coef * gam0 * hu
-    out[1] -= coef * gam1 * hu
-    out[2] -= coef * gam2 * hu
-    out[3] -= coef * gam3 * hu
-    out[4] -= coef * gam0 * hv
-    out[5] -= coef * gam1 * hv
-    out[6] -= coef * gam2 * hv
-    out[7] -= coef * gam3 * hv
-    return coef * (hu * hu + hv * hv)
+def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, cmass, e, axi, hg, dt, corner):
+    """Corner forces of every cell into corner[c, 0:8] (fx0..fx3, fy0..fy3); the hourglass
+    power times dt goes into the cell's specific energy."""
+    for c in prange(conn.shape[0]):
+        n0 = conn[c, 0]
+        n1 = conn[c, 1]
+        n2 = conn[c, 2]
+        n3 = conn[c, 3]
+        x0 = x[n0]
+        x1 = x[n1]
+        x2 = x[n2]
+        x3 = x[n3]
+        y0 = y[n0]
+        y1 = y[n1]
+        y2 = y[n2]
+        y3 = y[n3]
+        pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3, area = bvec_planar(x0, x1, x2, x3, y0, y1, y2, y3)
+        if axi:
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, _ = bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3)
+        else:
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3 = pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3
+            h0 = h1 = h2 = h3 = 0.0
+        ptot = p[c] + q[c]
+        a_xx = sxx[c] - ptot
+        a_yy = syy[c] - ptot
+        a_tt = -(sxx[c] + syy[c]) - ptot
+        a_xy = sxy[c]
+        f0 = -(a_xx * bx0 + a_xy * by0 + a_tt * h0)
+        f1 = -(a_xx * bx1 + a_xy * by1 + a_tt * h1)
+        f2 = -(a_xx * bx2 + a_xy * by2 + a_tt * h2)
+        f3 = -(a_xx * bx3 + a_xy * by3 + a_tt * h3)
+        g0 = -(a_xy * bx0 + a_yy * by0)
+        g1 = -(a_xy * bx1 + a_yy * by1)
+        g2 = -(a_xy * bx2 + a_yy * by2)
+        g3 = -(a_xy * bx3 + a_yy * by3)
+        if hg > 0.0 and area > 0.0:
+            # Flanagan-Belytschko viscous hourglass: gamma = Gamma - (Gamma.x) b_x/A - (Gamma.y) b_y/A
+            gx = x0 - x1 + x2 - x3
+            gy = y0 - y1 + y2 - y3
+            inv = 1.0 / area
+            gam0 = 1.0 - (gx * pbx0 + gy * pby0) * inv
+            gam1 = -1.0 - (gx * pbx1 + gy * pby1) * inv
+            gam2 = 1.0 - (gx * pbx2 + gy * pby2) * inv
+            gam3 = -1.0 - (gx * pbx3 + gy * pby3) * inv
+            hu = gam0 * vx[n0] + gam1 * vx[n1] + gam2 * vx[n2] + gam3 * vx[n3]
+            hv = gam0 * vy[n0] + gam1 * vy[n1] + gam2 * vy[n2] + gam3 * vy[n3]
+            w = 0.25 * (x0 + x1 + x2 + x3) if axi else 1.0
+            coef = 0.25 * hg * rho[c] * cs[c] * math.sqrt(area) * w
+            f0 -= coef * gam0 * hu
+            f1 -= coef * gam1 * hu
+            f2 -= coef * gam2 * hu
+            f3 -= coef * gam3 * hu
+            g0 -= coef * gam0 * hv
+            g1 -= coef * gam1 * hv
+            g2 -= coef * gam2 * hv
+            g3 -= coef * gam3 * hv
+            e[c] += dt * coef * (hu * hu + hv * hv) / cmass[c]
+        corner[c, 0] = f0
+        corner[c, 1] = f1
+        corner[c, 2] = f2
+        corner[c, 3] = f3
+        corner[c, 4] = g0
+        corner[c, 5] = g1
+        corner[c, 6] = g2
+        corner[c, 7] = g3
+
+
+corner_forces_serial = njit(cache=True)(_corner_forces_impl)
+corner_forces_parallel = njit(cache=True, parallel=True)(_corner_forces_impl)
 
 
 @njit(cache=True)
-def forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, cmass, e, axi, hg, dt, fx, fy):
-    """Nodal forces (scatter), hourglass heat dt*power/M added to e; serial."""
+def scatter_forces(conn, corner, fx, fy):
+    """Nodal forces: sum of the corner forces of the cells around each node (serial scatter)."""
     fx[:] = 0.0
     fy[:] = 0.0
-    out = np.empty(8)
-    xs = np.empty(4)
-    ys = np.empty(4)
-    bx = np.empty(4)
-    by = np.empty(4)
-    hh = np.empty(4)
     for c in range(conn.shape[0]):
-        pw = _cell_forces(c, conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, hg, out, xs, ys, bx, by, hh)
         for k in range(4):
             n = conn[c, k]
-            fx[n] += out[k]
-            fy[n] += out[4 + k]
-        if pw > 0.0:
-            e[c] += dt * pw / cmass[c]
+            fx[n] += corner[c, k]
+            fy[n] += corner[c, 4 + k]
 
 
 @njit(cache=True, parallel=True)
-def forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, cmass, e, axi, hg, dt, fx, fy,
-                    corner, node_ptr, node_corner):
-    """Nodal forces: corner forces per cell (prange), then a gather per node (prange)."""
-    nc = conn.shape[0]
-    for c in prange(nc):
-        xs = np.empty(4)
-        ys = np.empty(4)
-        bx = np.empty(4)
-        by = np.empty(4)
-        hh = np.empty(4)
-        pw = _cell_forces(c, conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, hg, corner[c], xs, ys, bx, by,
-                          hh)
-        if pw > 0.0:
-            e[c] += dt * pw / cmass[c]
+def gather_forces(corner, node_ptr, node_corner, fx, fy):
+    """Nodal forces by a gather over each node's corners (node_corner = 4 c + k), parallel."""
     for n in prange(fx.shape[0]):
         sx = 0.0
         sy = 0.0
@@ -257,198 +254,240 @@ def internal_energy(e, e_el, cmass):
 
 # --------------------------------------------------------------------------- cells
 
-@njit(cache=True)
-def _update_cell(c, conn, x0, y0, x1, y1, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
-                 sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, xs, ys, bx, by, hh):
-    """Advance cell c from n to n+1; return (stable dt of the cell, error code)."""
-    m = mat[c]
-    # ---- geometry at n+1
-    for k in range(4):
-        nd = conn[c, k]
-        xs[k] = x1[nd]
-        ys[k] = y1[nd]
-    jmin = min_corner_jacobian(xs, ys)
-    area1 = quad_area(xs[0], xs[1], xs[2], xs[3], ys[0], ys[1], ys[2], ys[3])
-    d1 = (xs[2] - xs[0]) ** 2 + (ys[2] - ys[0]) ** 2
-    d2 = (xs[3] - xs[1]) ** 2 + (ys[3] - ys[1]) ** 2
-    dmax = math.sqrt(d1 if d1 > d2 else d2)
-    v1 = bvectors(xs, ys, axi, bx, by, hh)
-    if not (jmin > 0.0 and v1 > 0.0):
-        if math.isnan(jmin) or math.isnan(v1):
-            return 0.0, ERR_NAN
-        return 0.0, ERR_INVERTED
-    # ---- geometry at n+1/2 and strain rate
-    for k in range(4):
-        nd = conn[c, k]
-        xs[k] = 0.5 * (x0[nd] + x1[nd])
-        ys[k] = 0.5 * (y0[nd] + y1[nd])
-    vh = bvectors(xs, ys, axi, bx, by, hh)
-    dxx = 0.0
-    dyy = 0.0
-    dtt = 0.0
-    uy = 0.0
-    vxg = 0.0
-    for k in range(4):
-        nd = conn[c, k]
-        dxx += bx[k] * vx[nd]
-        dyy += by[k] * vy[nd]
-        dtt += hh[k] * vx[nd]
-        uy += by[k] * vx[nd]
-        vxg += bx[k] * vy[nd]
-    inv = 1.0 / vh
-    dxx *= inv
-    dyy *= inv
-    dtt *= inv
-    uy *= inv
-    vxg *= inv
-    dxy = 0.5 * (uy + vxg)
-    spin = 0.5 * (uy - vxg)
-    trd = dxx + dyy + dtt
-    v0 = vol[c]
-    rho1 = cmass[c] / v1
-    rhoh = cmass[c] / vh
-    # ---- deviatoric stress: rotation, predictor, radial return
-    heat = 0.0
-    if props[m, P_STRENGTH] != STRENGTH_NONE:
-        g, ratio = shear_modulus_and_ratio(p[c], temp[c], props, m)
-        r_xx, r_yy, r_xy = rotate_deviator(sxx[c], syy[c], sxy[c], spin, dt)
-        dm = trd / 3.0
-        t_xx = r_xx + 2.0 * g * dt * (dxx - dm)
-        t_yy = r_yy + 2.0 * g * dt * (dyy - dm)
-        t_xy = r_xy + 2.0 * g * dt * dxy
-        n_xx, n_yy, n_xy, deps, y = radial_return(t_xx, t_yy, t_xy, eps_p[c], g, ratio, props, m)
-        # deviatoric work per unit mass with S^{n+1/2} = (S~^n + S^{n+1})/2
-        m_xx = 0.5 * (r_xx + n_xx)
-        m_yy = 0.5 * (r_yy + n_yy)
-        m_xy = 0.5 * (r_xy + n_xy)
-        wdev = (m_xx * dxx + m_yy * dyy - (m_xx + m_yy) * dtt + 2.0 * m_xy * dxy) * dt / rhoh
-        heat = y * deps / rhoh
-        sxx[c] = n_xx
-        syy[c] = n_yy
-        sxy[c] = n_xy
-        eps_p[c] += deps
-        e_el[c] += wdev - heat
-        if n_xx == 0.0 and n_yy == 0.0 and n_xy == 0.0:
-            # no deviator left (melted): the stored shear energy is released as heat
-            heat += e_el[c]
-            e_el[c] = 0.0
-    # ---- artificial viscosity q^{n+1/2} (compression only)
-    qn = 0.0
-    if trd < 0.0:
-        cm = 0.5 * (dxx + dyy)
-        rr = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
-        lq = math.sqrt(area1)
-        if rr > 1e-12 * (abs(cm) + 1e-300):
-            lmax = cm + rr
-            ax = dxy
-            ay = lmax - dxx
-            bxv = lmax - dyy
-            byv = dxy
-            if ax * ax + ay * ay >= bxv * bxv + byv * byv:
-                tx, ty = ax, ay
+def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
+                       sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell):
+    """Advance every cell from t^n to t^{n+1}: dtcell[c] = its stable step, errcell[c] = error code."""
+    ntab = table.shape[1]
+    for c in prange(conn.shape[0]):
+        errcell[c] = ERR_NONE
+        dtcell[c] = 1e300
+        m = mat[c]
+        n0 = conn[c, 0]
+        n1 = conn[c, 1]
+        n2 = conn[c, 2]
+        n3 = conn[c, 3]
+        # ---- geometry at n+1
+        xa0 = x1a[n0]
+        xa1 = x1a[n1]
+        xa2 = x1a[n2]
+        xa3 = x1a[n3]
+        ya0 = y1a[n0]
+        ya1 = y1a[n1]
+        ya2 = y1a[n2]
+        ya3 = y1a[n3]
+        jmin = min_jacobian(xa0, xa1, xa2, xa3, ya0, ya1, ya2, ya3)
+        area1 = quad_area(xa0, xa1, xa2, xa3, ya0, ya1, ya2, ya3)
+        d1 = (xa2 - xa0) ** 2 + (ya2 - ya0) ** 2
+        d2 = (xa3 - xa1) ** 2 + (ya3 - ya1) ** 2
+        dmax = math.sqrt(d1 if d1 > d2 else d2)
+        if axi:
+            v1 = bvec_axi(xa0, xa1, xa2, xa3, ya0, ya1, ya2, ya3)[12]
+        else:
+            v1 = area1
+        if not (jmin > 0.0 and v1 > 0.0):
+            if math.isnan(jmin) or math.isnan(v1):
+                errcell[c] = ERR_NAN
             else:
-                tx, ty = bxv, byv
-            tn = math.sqrt(tx * tx + ty * ty)
-            tx /= tn
-            ty /= tn
-            pmin_ = 1e300
-            pmax_ = -1e300
-            for k in range(4):
-                nd = conn[c, k]
-                pr = tx * x1[nd] + ty * y1[nd]
-                if pr < pmin_:
-                    pmin_ = pr
-                if pr > pmax_:
-                    pmax_ = pr
-            if pmax_ > pmin_:
-                lq = area1 / (pmax_ - pmin_)
-                if lq > dmax:
-                    lq = dmax
-        qn = rhoh * (cq * cq * lq * lq * trd * trd - cl * cs[c] * lq * trd)
-    # ---- energy and pressure (thesis eq. 3.18 with errata), q time-centred as the forces see it:
-    # e1 = e~ - ((P^n + q^{n-1/2}) + (P^{n+1} + q^{n+1/2}))/2 dv
-    dv = (v1 - v0) / cmass[c]
-    et = e[c] + heat
-    qmid = 0.5 * (q[c] + qn)
-    a, b, _ = eos_ab(rho1, props, m)
-    e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
-    p1 = a + b * e1
-    pfloor = props[m, P_PMIN]
-    if p1 < pfloor:
-        p1 = pfloor
-        e1 = et - (0.5 * (p[c] + p1) + qmid) * dv
-    if not (math.isfinite(e1) and math.isfinite(p1)):
-        return 0.0, ERR_NAN
-    t1 = temperature(rho1, e1, props, table, m)
-    vol[c] = v1
-    rho[c] = rho1
-    e[c] = e1
-    p[c] = p1
-    q[c] = qn
-    temp[c] = t1
-    # ---- moduli, flow stress and sound speed at n+1
-    c2 = sound_speed2(rho1, p1, props, m)
-    if props[m, P_STRENGTH] != STRENGTH_NONE:
-        g1, ratio1 = shear_modulus_and_ratio(p1, t1, props, m)
-        shear[c] = g1
-        yld[c] = yield_stress(eps_p[c], ratio1, props, m)
-        c2 += 4.0 * g1 / (3.0 * rho1)
-    c1 = math.sqrt(c2)
-    cs[c] = c1
-    # ---- stable time step of the cell
-    lcfl = area1 / dmax
-    aq = 0.0
-    if trd < 0.0:
-        aq = cq * cq * lcfl * (-trd) + cl * c1
-    dtc = cfl * lcfl / (aq + math.sqrt(aq * aq + c2))
-    if trd != 0.0:
-        dvl = dvmax / abs(trd)
-        if dvl < dtc:
-            dtc = dvl
-    return dtc, ERR_NONE
+                errcell[c] = ERR_INVERTED
+            continue
+        # ---- geometry at n+1/2 and strain rate
+        xh0 = 0.5 * (x0a[n0] + xa0)
+        xh1 = 0.5 * (x0a[n1] + xa1)
+        xh2 = 0.5 * (x0a[n2] + xa2)
+        xh3 = 0.5 * (x0a[n3] + xa3)
+        yh0 = 0.5 * (y0a[n0] + ya0)
+        yh1 = 0.5 * (y0a[n1] + ya1)
+        yh2 = 0.5 * (y0a[n2] + ya2)
+        yh3 = 0.5 * (y0a[n3] + ya3)
+        if axi:
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, vh = bvec_axi(xh0, xh1, xh2, xh3,
+                                                                                  yh0, yh1, yh2, yh3)
+        else:
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3, vh = bvec_planar(xh0, xh1, xh2, xh3, yh0, yh1, yh2, yh3)
+            h0 = h1 = h2 = h3 = 0.0
+        u0 = vx[n0]
+        u1 = vx[n1]
+        u2 = vx[n2]
+        u3 = vx[n3]
+        w0 = vy[n0]
+        w1 = vy[n1]
+        w2 = vy[n2]
+        w3 = vy[n3]
+        inv = 1.0 / vh
+        dxx = (bx0 * u0 + bx1 * u1 + bx2 * u2 + bx3 * u3) * inv
+        dyy = (by0 * w0 + by1 * w1 + by2 * w2 + by3 * w3) * inv
+        dtt = (h0 * u0 + h1 * u1 + h2 * u2 + h3 * u3) * inv
+        uy = (by0 * u0 + by1 * u1 + by2 * u2 + by3 * u3) * inv
+        vxg = (bx0 * w0 + bx1 * w1 + bx2 * w2 + bx3 * w3) * inv
+        dxy = 0.5 * (uy + vxg)
+        spin = 0.5 * (uy - vxg)
+        trd = dxx + dyy + dtt
+        v0 = vol[c]
+        rho1 = cmass[c] / v1
+        rhoh = cmass[c] / vh
+        # ---- material parameters
+        ekind = props[m, P_EOS]
+        rho0 = props[m, P_RHO0]
+        c0 = props[m, P_C0]
+        s_ = props[m, P_S]
+        g0 = props[m, P_GAMMA0]
+        gam = props[m, P_GAMMA]
+        skind = props[m, P_STRENGTH]
+        sg0 = props[m, P_G0]
+        gconst = props[m, P_G_CONST]
+        y_epp = props[m, P_Y0]
+        sy0 = props[m, P_SCG + I_Y0]
+        sbeta = props[m, P_SCG + I_BETA]
+        sn = props[m, P_SCG + I_N]
+        symax = props[m, P_SCG + I_YMAX]
+        sgp = props[m, P_SCG + I_G]
+        sht = props[m, P_SCG + I_H]
+        sxi = props[m, P_SCG + I_XI]
+        stf = props[m, P_SCG + I_TF]
+        # ---- deviatoric stress: rotation, predictor, radial return
+        heat = 0.0
+        hnew = 0.0
+        if skind != STRENGTH_NONE:
+            # shear[c] holds G(P^n, T^n) (physical SCG modulus; G0 for EPP), set at the end of the last update
+            if skind == STRENGTH_EPP:
+                ratio = 1.0
+                g = sg0
+            else:
+                ratio = shear[c] / sg0
+                g = sg0 if (gconst != 0.0 and ratio > 0.0) else shear[c]
+            r_xx, r_yy, r_xy = rotate_deviator(sxx[c], syy[c], sxy[c], spin, dt)
+            dm = trd / 3.0
+            t_xx = r_xx + 2.0 * g * dt * (dxx - dm)
+            t_yy = r_yy + 2.0 * g * dt * (dyy - dm)
+            t_xy = r_xy + 2.0 * g * dt * dxy
+            n_xx, n_yy, n_xy, deps, yv, hnew = radial_return_s(t_xx, t_yy, t_xy, eps_p[c], g, ratio, skind, y_epp,
+                                                               sy0, sbeta, sn, symax, yld[c])
+            # deviatoric work per unit mass with S^{n+1/2} = (S~^n + S^{n+1})/2
+            m_xx = 0.5 * (r_xx + n_xx)
+            m_yy = 0.5 * (r_yy + n_yy)
+            m_xy = 0.5 * (r_xy + n_xy)
+            wdev = (m_xx * dxx + m_yy * dyy - (m_xx + m_yy) * dtt + 2.0 * m_xy * dxy) * dt / rhoh
+            heat = yv * deps / rhoh
+            sxx[c] = n_xx
+            syy[c] = n_yy
+            sxy[c] = n_xy
+            eps_p[c] += deps
+            eel = e_el[c] + wdev - heat
+            if n_xx == 0.0 and n_yy == 0.0 and n_xy == 0.0:
+                # no deviator left (melted): the stored shear energy is released as heat
+                heat += eel
+                eel = 0.0
+            e_el[c] = eel
+        # ---- artificial viscosity q^{n+1/2} (compression only), length along the compression
+        qn = 0.0
+        if trd < 0.0:
+            cm = 0.5 * (dxx + dyy)
+            rr = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
+            lq = math.sqrt(area1)
+            if rr > 1e-12 * (abs(cm) + 1e-300):
+                lmax = cm + rr
+                ax = dxy
+                ay = lmax - dxx
+                bxv = lmax - dyy
+                byv = dxy
+                if ax * ax + ay * ay >= bxv * bxv + byv * byv:
+                    tx = ax
+                    ty = ay
+                else:
+                    tx = bxv
+                    ty = byv
+                tn = 1.0 / math.sqrt(tx * tx + ty * ty)
+                tx *= tn
+                ty *= tn
+                p0_ = tx * xa0 + ty * ya0
+                p1_ = tx * xa1 + ty * ya1
+                p2_ = tx * xa2 + ty * ya2
+                p3_ = tx * xa3 + ty * ya3
+                width = max(max(p0_, p1_), max(p2_, p3_)) - min(min(p0_, p1_), min(p2_, p3_))
+                if width > 0.0:
+                    lq = area1 / width
+                    if lq > dmax:
+                        lq = dmax
+            qn = rhoh * (cq * cq * lq * lq * trd * trd - cl * cs[c] * lq * trd)
+        # ---- energy and pressure (thesis eq. 3.18 with errata), q time-centred as the forces see it:
+        # e1 = e~ - ((P^n + q^{n-1/2}) + (P^{n+1} + q^{n+1/2}))/2 dv
+        dv = (v1 - v0) / cmass[c]
+        et = e[c] + heat
+        qmid = 0.5 * (q[c] + qn)
+        a, b, _ = eos_ab_s(rho1, ekind, rho0, c0, s_, g0, gam)
+        e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
+        p1 = a + b * e1
+        pfloor = props[m, P_PMIN]
+        if p1 < pfloor:
+            p1 = pfloor
+            e1 = et - (0.5 * (p[c] + p1) + qmid) * dv
+        if not (math.isfinite(e1) and math.isfinite(p1)):
+            errcell[c] = ERR_NAN
+            continue
+        # ---- temperature: T0 + (e - e_s(mu))/cv, or e/cv (ideal gas)
+        cv = props[m, P_CV]
+        if ekind == EOS_IDEAL_GAS:
+            t1 = e1 / cv
+        else:
+            lo = props[m, P_MU_LO]
+            hi = props[m, P_MU_HI]
+            f = (rho1 / rho0 - 1.0 - lo) / (hi - lo) * (ntab - 1)
+            if f <= 0.0:
+                es = table[m, 0]
+            elif f >= ntab - 1:
+                es = table[m, ntab - 1]
+            else:
+                k = int(f)
+                wt = f - k
+                es = (1.0 - wt) * table[m, k] + wt * table[m, k + 1]
+            t1 = props[m, P_T0] + (e1 - es) / cv
+        vol[c] = v1
+        rho[c] = rho1
+        e[c] = e1
+        p[c] = p1
+        q[c] = qn
+        temp[c] = t1
+        # ---- moduli, flow stress and sound speed at n+1
+        c2 = sound_speed2_s(rho1, p1, ekind, rho0, c0, s_, g0, gam)
+        if skind == STRENGTH_EPP:
+            shear[c] = sg0
+            yld[c] = y_epp
+            c2 += 4.0 * sg0 / (3.0 * rho1)
+        elif skind != STRENGTH_NONE:
+            ratio1 = scg_shear_ratio(p1, t1, sgp, sht, sxi, stf)
+            shear[c] = sg0 * ratio1
+            yld[c] = hnew * ratio1
+            gpred = sg0 if (gconst != 0.0 and ratio1 > 0.0) else sg0 * ratio1
+            c2 += 4.0 * gpred / (3.0 * rho1)
+        c1 = math.sqrt(c2)
+        cs[c] = c1
+        # ---- stable time step of the cell
+        lcfl = area1 / dmax
+        aq = 0.0
+        if trd < 0.0:
+            aq = cq * cq * lcfl * (-trd) + cl * c1
+        dtc = cfl * lcfl / (aq + math.sqrt(aq * aq + c2))
+        if trd != 0.0:
+            dvl = dvmax / abs(trd)
+            if dvl < dtc:
+                dtc = dvl
+        dtcell[c] = dtc
+
+
+update_cells_serial = njit(cache=True)(_update_cells_impl)
+update_cells_parallel = njit(cache=True, parallel=True)(_update_cells_impl)
 
 
 @njit(cache=True)
-def update_cells_serial(conn, x0, y0, x1, y1, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
-                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax):
-    """All cells, serial.  Returns (min stable dt, first bad cell or -1, error code)."""
-    xs = np.empty(4)
-    ys = np.empty(4)
-    bx = np.empty(4)
-    by = np.empty(4)
-    hh = np.empty(4)
+def reduce_time_step(dtcell, errcell):
+    """(min stable dt, first bad cell or -1, its error code)."""
     dtmin = 1e300
-    for c in range(conn.shape[0]):
-        dtc, err = _update_cell(c, conn, x0, y0, x1, y1, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
-                                q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
-                                xs, ys, bx, by, hh)
-        if err != ERR_NONE:
-            return 0.0, c, err
-        if dtc < dtmin:
-            dtmin = dtc
-    return dtmin, -1, ERR_NONE
-
-
-@njit(cache=True, parallel=True)
-def update_cells_parallel(conn, x0, y0, x1, y1, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
-                          sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell):
-    """All cells with prange; per-cell results in dtcell/errcell, reduced here."""
-    nc = conn.shape[0]
-    for c in prange(nc):
-        xs = np.empty(4)
-        ys = np.empty(4)
-        bx = np.empty(4)
-        by = np.empty(4)
-        hh = np.empty(4)
-        dtc, err = _update_cell(c, conn, x0, y0, x1, y1, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
-                                q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
-                                xs, ys, bx, by, hh)
-        dtcell[c] = dtc if err == ERR_NONE else 1e300
-        errcell[c] = err
-    for c in range(nc):
+    for c in range(dtcell.shape[0]):
         if errcell[c] != ERR_NONE:
             return 0.0, c, errcell[c]
-    return dtcell.min(), -1, ERR_NONE
+        if dtcell[c] < dtmin:
+            dtmin = dtcell[c]
+    return dtmin, -1, ERR_NONE
 
 
 @njit(cache=True)
@@ -507,7 +546,7 @@ def initial_cell_state(mat, props, table, rho, e, p, temp, shear, yld, cs, eps_p
         c2 = sound_speed2(rho[c], p[c], props, m)
         if props[m, P_STRENGTH] != STRENGTH_NONE:
             g, ratio = shear_modulus_and_ratio(p[c], temp[c], props, m)
-            shear[c] = g
+            shear[c] = props[m, P_G0] * ratio  # the physical G(P, T) (G0 for EPP)
             yld[c] = yield_stress(eps_p[c], ratio, props, m)
             c2 += 4.0 * g / (3.0 * rho[c])
         cs[c] = math.sqrt(c2)

@@ -46,75 +46,72 @@ def rotate_deviator(sxx, syy, sxy, spin, dt):
 
 
 @njit(cache=True)
-def _hardening(eps, p, off):
+def hardening(eps, y0, beta, n, ymax):
     """min(Ymax, Y0 (1 + beta eps)^n) and its derivative in eps."""
-    y0 = p[off + I_Y0]
-    beta = p[off + I_BETA]
-    n = p[off + I_N]
     base = 1.0 + beta * eps
     y = y0 * base ** n
-    if y >= p[off + I_YMAX]:
-        return p[off + I_YMAX], 0.0
+    if y >= ymax:
+        return ymax, 0.0
     return y, y0 * n * beta * base ** (n - 1.0)
 
 
 @njit(cache=True)
-def shear_modulus_and_ratio(pressure, temp, props, m):
-    """(G used in the elastic predictor, SCG ratio G(P,T)/G0) for body m."""
-    kind = props[m, P_STRENGTH]
+def shear_modulus_and_ratio_s(pressure, temp, kind, g0, gconst, g, h, xi, tmelt):
+    """(G of the elastic predictor, SCG ratio G(P,T)/G0)."""
     if kind == STRENGTH_NONE:
         return 0.0, 0.0
     if kind == STRENGTH_EPP:
-        return props[m, P_G0], 1.0
-    off = P_SCG
-    ratio = scg_shear_ratio(pressure, temp, props[m, off + I_G], props[m, off + I_H], props[m, off + I_XI],
-                            props[m, off + I_TF])
-    if props[m, P_G_CONST] != 0.0 and ratio > 0.0:
-        return props[m, P_G0], ratio
-    return props[m, P_G0] * ratio, ratio
+        return g0, 1.0
+    ratio = scg_shear_ratio(pressure, temp, g, h, xi, tmelt)
+    if gconst != 0.0 and ratio > 0.0:
+        return g0, ratio
+    return g0 * ratio, ratio
 
 
 @njit(cache=True)
-def yield_stress(eps_p, ratio, props, m):
-    """Current flow stress: Y0 (EPP) or min(Ymax, Y0 (1+beta eps)^n) G/G0 (SCG)."""
-    kind = props[m, P_STRENGTH]
+def yield_stress_s(eps_p, ratio, kind, y_epp, y0, beta, n, ymax):
+    """Flow stress: Y0 (EPP) or min(Ymax, Y0 (1+beta eps)^n) G/G0 (SCG)."""
     if kind == STRENGTH_NONE:
         return 0.0
     if kind == STRENGTH_EPP:
-        return props[m, P_Y0]
-    y, _ = _hardening(eps_p, props[m], P_SCG)
+        return y_epp
+    y, _ = hardening(eps_p, y0, beta, n, ymax)
     return y * ratio
 
 
 @njit(cache=True)
-def radial_return(sxx, syy, sxy, eps_p, G, ratio, props, m):
-    """Return (sxx, syy, sxy, d_eps, Y) after the yield check and radial return.
+def radial_return_s(sxx, syy, sxy, eps_p, G, ratio, kind, y_epp, y0, beta, n, ymax, y_now):
+    """Return (sxx, syy, sxy, d_eps, Y, h) after the yield check and radial return.
 
-    ``sxx, syy, sxy`` is the elastic predictor (szz = -(sxx+syy)).  With ratio = 0
-    (melted, or G(P,T) clamped at 0) the deviator is set to zero.
+    ``sxx, syy, sxy`` is the elastic predictor (szz = -(sxx+syy)); h is the SCG work
+    hardening min(Ymax, Y0 (1+beta eps)^n) at the new plastic strain (Y0 for EPP).
+    With ratio = 0 (melted, or G(P,T) clamped at 0) the deviator is set to zero.
+    ``y_now`` is the SCG flow stress Y(eps_p, P^n, T^n) if known (the cycle keeps it
+    per cell), or a negative number to compute it here.
     """
-    kind = props[m, P_STRENGTH]
     szz = -(sxx + syy)
     seq = math.sqrt(1.5 * (sxx * sxx + syy * syy + szz * szz + 2.0 * sxy * sxy))
     if kind == STRENGTH_EPP:
-        y = props[m, P_Y0]
-        if seq <= y:
-            return sxx, syy, sxy, 0.0, y
-        f = y / seq
-        return sxx * f, syy * f, sxy * f, (seq - y) / (3.0 * G), y
+        if seq <= y_epp:
+            return sxx, syy, sxy, 0.0, y_epp, y_epp
+        f = y_epp / seq
+        return sxx * f, syy * f, sxy * f, (seq - y_epp) / (3.0 * G), y_epp, y_epp
     if ratio <= 0.0 or G <= 0.0:
-        return 0.0, 0.0, 0.0, 0.0, 0.0
-    p = props[m]
-    h0, _ = _hardening(eps_p, p, P_SCG)
-    y = h0 * ratio
+        h0, _ = hardening(eps_p, y0, beta, n, ymax)
+        return 0.0, 0.0, 0.0, 0.0, 0.0, h0
+    if y_now >= 0.0:
+        y = y_now
+    else:
+        h0, _ = hardening(eps_p, y0, beta, n, ymax)
+        y = h0 * ratio
     if seq <= y:
-        return sxx, syy, sxy, 0.0, y
+        return sxx, syy, sxy, 0.0, y, y / ratio
     # f(d) = seq - 3 G d - ratio*h(eps+d), decreasing; root in [0, (seq - y)/(3G)]
     lo = 0.0
     hi = (seq - y) / (3.0 * G)
     d = hi
     for _ in range(NEWTON_MAXIT):
-        h, dh = _hardening(eps_p + d, p, P_SCG)
+        h, dh = hardening(eps_p + d, y0, beta, n, ymax)
         f = seq - 3.0 * G * d - ratio * h
         if abs(f) <= NEWTON_RTOL * seq:
             break
@@ -128,7 +125,38 @@ def radial_return(sxx, syy, sxy, eps_p, G, ratio, props, m):
         d = dn
         if hi - lo <= 1e-15 * (1.0 + hi):
             break
-    h, _ = _hardening(eps_p + d, p, P_SCG)
+    h, _ = hardening(eps_p + d, y0, beta, n, ymax)
     y = ratio * h
     fac = y / seq
-    return sxx * fac, syy * fac, sxy * fac, d, y
+    return sxx * fac, syy * fac, sxy * fac, d, y, h
+
+
+@njit(cache=True)
+def _params(props, m):
+    """(kind, G0, G-constant flag, Y_epp, Y0, beta, n, Ymax, g, h, xi, T_F) of body m."""
+    o = P_SCG
+    return (props[m, P_STRENGTH], props[m, P_G0], props[m, P_G_CONST], props[m, P_Y0], props[m, o + I_Y0],
+            props[m, o + I_BETA], props[m, o + I_N], props[m, o + I_YMAX], props[m, o + I_G], props[m, o + I_H],
+            props[m, o + I_XI], props[m, o + I_TF])
+
+
+@njit(cache=True)
+def shear_modulus_and_ratio(pressure, temp, props, m):
+    """(G used in the elastic predictor, SCG ratio G(P,T)/G0) for body m."""
+    kind, g0, gc, ye, y0, beta, n, ymax, g, h, xi, tf = _params(props, m)
+    return shear_modulus_and_ratio_s(pressure, temp, kind, g0, gc, g, h, xi, tf)
+
+
+@njit(cache=True)
+def yield_stress(eps_p, ratio, props, m):
+    """Current flow stress of body m."""
+    kind, g0, gc, ye, y0, beta, n, ymax, g, h, xi, tf = _params(props, m)
+    return yield_stress_s(eps_p, ratio, kind, ye, y0, beta, n, ymax)
+
+
+@njit(cache=True)
+def radial_return(sxx, syy, sxy, eps_p, G, ratio, props, m):
+    """:func:`radial_return_s` with the parameters of body m: (sxx, syy, sxy, d_eps, Y)."""
+    kind, g0, gc, ye, y0, beta, n, ymax, g, h, xi, tf = _params(props, m)
+    r = radial_return_s(sxx, syy, sxy, eps_p, G, ratio, kind, ye, y0, beta, n, ymax, -1.0)
+    return r[0], r[1], r[2], r[3], r[4]
