@@ -126,3 +126,18 @@ def test_scg_yield_function_matches_library_law():
     p, eps = 2e9, 0.01
     expected = min(mat.Ymax, mat.Y0 * (1 + mat.scg_beta * eps) ** mat.scg_n) * (1 + mat.scg_g * p) * melt
     assert y_of(p, eps) == pytest.approx(expected, rel=1e-12)
+
+
+def test_elastic_plastic_impedance_match():
+    """Symmetric: u = V/2 exactly; asymmetric: stresses balance and strength -> 0 gives the hydro match."""
+    sym = H.impedance_match_elastic_plastic(AL, G_AL, Y_AL, AL, G_AL, Y_AL, 250.0)
+    assert sym.particle_velocity == pytest.approx(125.0, rel=1e-10)
+    g_st, y_st = 77e9, 0.34e9
+    asym = H.impedance_match_elastic_plastic(STEEL, g_st, y_st, AL, G_AL, Y_AL, 250.0)
+    assert asym.flyer.final.stress == pytest.approx(asym.target.final.stress, rel=1e-10)
+    assert asym.flyer.final.u + asym.particle_velocity == pytest.approx(250.0, rel=1e-12)
+    weak = H.impedance_match_elastic_plastic(STEEL, g_st, 1e2, AL, G_AL, 1e2, 250.0)
+    hydro = H.impedance_match(STEEL, AL, 250.0)
+    assert weak.particle_velocity == pytest.approx(hydro.particle_velocity, rel=1e-6)
+    # strength stiffens the loading path: the interface stress rises above the hydrodynamic one
+    assert asym.stress > hydro.pressure

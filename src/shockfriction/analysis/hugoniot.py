@@ -323,3 +323,37 @@ def scg_yield_function(material, temperature: float = 300.0) -> YieldFunction:
     def y_of(pressure: float, plastic_strain: float) -> float:
         return float(yield_stress(material, plastic_strain, pressure, temperature))
     return y_of
+
+
+@dataclass(frozen=True)
+class ElasticPlasticImpact:
+    """Plate impact with strength: interface velocity and the waves in flyer and target."""
+
+    particle_velocity: float  # interface (target material) velocity, lab frame
+    stress: float  # longitudinal compressive stress at the interface
+    flyer: TwoWaveSolution  # waves in the flyer, in the flyer's rest frame
+    target: TwoWaveSolution
+
+
+def impedance_match_elastic_plastic(flyer: LinearHugoniotEOS, flyer_shear_modulus: float,
+                                    flyer_yield: float | YieldFunction, target: LinearHugoniotEOS,
+                                    target_shear_modulus: float, target_yield: float | YieldFunction,
+                                    velocity: float) -> ElasticPlasticImpact:
+    """Interface state of a plate impact when both plates have strength.
+
+    Each plate carries its own elastic-plastic wave system (a piston problem in its rest
+    frame); continuity of velocity and longitudinal stress at the interface gives
+    Sigma_target(u) = Sigma_flyer(V - u), solved by brentq.
+    """
+    if velocity <= 0.0:
+        raise ValueError(f"impact velocity must be positive, got {velocity}")
+
+    def mismatch(u):
+        t = elastic_plastic_piston(target, target_shear_modulus, target_yield, u).final.stress
+        f = elastic_plastic_piston(flyer, flyer_shear_modulus, flyer_yield, velocity - u).final.stress
+        return t - f
+    eps = 1e-9 * velocity
+    u = brentq(mismatch, eps, velocity - eps, xtol=1e-12 * velocity, rtol=1e-14)
+    tgt = elastic_plastic_piston(target, target_shear_modulus, target_yield, u)
+    fly = elastic_plastic_piston(flyer, flyer_shear_modulus, flyer_yield, velocity - u)
+    return ElasticPlasticImpact(particle_velocity=u, stress=tgt.final.stress, flyer=fly, target=tgt)
