@@ -168,3 +168,36 @@ def test_plate_impact_with_scg_strength(material_file):
     # hardening and pressure raise the plastic state by ~1 % over perfect plasticity at Y0;
     # the computed state must resolve that difference, so it must sit within a quarter of it
     assert abs(final / exact.final.stress - 1.0) < 0.25 * separation
+
+
+@pytest.mark.parametrize("strength", [False, True])
+def test_asymmetric_impact_steel_on_aluminium(strength):
+    """Dissimilar plates (SS304 flyer on Al 6061-T6) tied at impact: the interface state of the
+    impedance match, with and without strength."""
+    deck = read_deck(DECKS / "plate_impact_al.toml")
+    flyer, target = deck["bodies"]
+    flyer.update(material="SS304", shear_modulus="77 GPa", yield_stress="0.34 GPa")
+    if not strength:
+        for b in deck["bodies"]:
+            b["strength"] = "none"
+            del b["shear_modulus"], b["yield_stress"]
+    steel = H.LinearHugoniotEOS.from_material(get_material("SS304"))
+    al = H.LinearHugoniotEOS.from_material(get_material("Al6061-T6"))
+    if strength:
+        exact = H.impedance_match_elastic_plastic(steel, 77e9, 0.34e9, al, 27.6e9, 0.29e9, 250.0)
+        stress_ref, u_ref = exact.stress, exact.particle_velocity
+        hel_ref = exact.target.hel
+    else:
+        exact = H.impedance_match(steel, al, 250.0)
+        stress_ref, u_ref = exact.pressure, exact.particle_velocity
+        hel_ref = None
+    result = run(deck)
+    ts, stress, vy = result.probes["t_s"], -result.probes["mid.sigma_yy"], result.probes["mid.vy"]
+    t_arr = _arrival(ts, stress, 0.5 * (stress_ref + (hel_ref or 0.0)))
+    window = (ts > t_arr + 0.15e-6) & (ts < t_arr + 0.6e-6)
+    got_stress, got_u = np.median(stress[window]), np.median(vy[window])
+    print(f"\nSS304 on Al6061-T6, 250 m/s, strength={strength}: interface stress {got_stress / 1e9:.5f} vs "
+          f"{stress_ref / 1e9:.5f} GPa ({got_stress / stress_ref - 1:+.2e}), particle velocity {got_u:.3f} vs "
+          f"{u_ref:.3f} m/s ({got_u / u_ref - 1:+.2e})")
+    assert got_stress == pytest.approx(stress_ref, rel=0.02)
+    assert got_u == pytest.approx(u_ref, rel=0.02)
