@@ -162,20 +162,31 @@ def _sedov(geometry, cells):
     sol = sedov.solve(geometry, 1.4)
     radius = sol.shock_radius(energy, result.state.t)
     front = front_position(prof["coord"], prof["rho"], 0.5 * (1.0 + prof["rho"].max()))
-    return front / radius - 1.0, prof["rho"].max(), result.summary["relative_energy_error"]
+    rho, _, p = sol.profile(prof["coord"], result.state.t, energy)
+    inside = prof["coord"] < 1.2 * radius
+    weights = prof["size"][inside] * prof["coord"][inside] ** (geometry - 1)  # volume weights
+    rho_l1 = l1_error(prof["rho"][inside], rho[inside], weights) / 6.0  # relative to the shock density
+    p_l1 = l1_error(prof["p"][inside], p[inside], weights) / p.max()
+    return front / radius - 1.0, prof["rho"].max(), result.summary["relative_energy_error"], rho_l1, p_l1
 
 
 @pytest.mark.parametrize("geometry", [1, 2])
 def test_sedov_shock_position(geometry):
-    err, peak, energy_err = _sedov(geometry, 100)
+    err, peak, energy_err, rho_l1, p_l1 = _sedov(geometry, 100)
     print(f"\nSedov j={geometry} (100 cells): shock position error {err:+.4f}, peak density {peak:.3f} "
-          f"(exact 6), relative energy error {energy_err:.1e}")
+          f"(exact 6), relative energy error {energy_err:.1e}, L1(rho)/6 = {rho_l1:.4f}, L1(p)/p_shock = {p_l1:.4f}")
     assert abs(err) < 0.02
+    assert rho_l1 < 0.05 and p_l1 < 0.05
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("geometry", [1, 2])
 def test_sedov_shock_position_refined(geometry):
-    errs = [abs(_sedov(geometry, n)[0]) for n in (100, 200, 400)]
-    print(f"\nSedov j={geometry}: |shock position error| at 100/200/400 cells = {errs}")
+    runs = [_sedov(geometry, n) for n in (100, 200, 400)]
+    errs = [abs(r[0]) for r in runs]
+    rho_l1 = [r[3] for r in runs]
+    order = observed_order([1 / 100, 1 / 200, 1 / 400], rho_l1)
+    print(f"\nSedov j={geometry}: |shock position error| at 100/200/400 cells = {errs}; "
+          f"L1(rho)/6 = {rho_l1}, observed order {order:.2f}")
     assert errs[-1] < 0.01 and errs[-1] < errs[0]
+    assert rho_l1[0] > rho_l1[1] > rho_l1[2]
