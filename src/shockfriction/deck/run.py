@@ -115,6 +115,7 @@ class Body(DeckModel):
     heat_capacity: Optional[SpecificHeat] = None
     pressure_floor: Optional[Pressure] = None
     velocity: tuple[Velocity, Velocity] = (0.0, 0.0)
+    radial_velocity: Optional[Velocity] = None
     temperature: Annotated[Temperature, Field(gt=0.0)] = 300.0
     mesh: MeshSpec
     boundary: Boundary = Field(default_factory=Boundary)

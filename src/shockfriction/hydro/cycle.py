@@ -94,7 +94,7 @@ class Simulation:
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
         self._grp = (problem.groups.ptr, problem.groups.nodes)
-        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.sound_speed, self.cfl)
+        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.vx, s.vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
         if deck.time.dt_initial is not None:
             dt0 = min(dt0, deck.time.dt_initial)
         s.dt = min(dt0, self.dt_max, self.t_end)
@@ -107,6 +107,22 @@ class Simulation:
         self.probe_every = deck.output.probe_every
         self.observers: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
+
+    def reinitialize(self) -> None:
+        """After editing the initial state by hand (``state.e``, ``rho``, ``vx``, ...) at t = 0:
+        recompute pressure, temperature, moduli, sound speed, volumes and masses-consistent
+        density, the first time step and the initial energy."""
+        s = self.state
+        if s.cycle != 0:
+            raise RuntimeError("reinitialize() is for the initial state (cycle 0)")
+        K.initial_cell_state(s.mat, s.props, s.isentrope, s.rho, s.e, s.pressure, s.temperature, s.shear_modulus,
+                             s.yield_stress, s.sound_speed, s.eps_p)
+        deck = self.problem.deck
+        dt0 = K.initial_time_step(s.conn, s.x, s.y, s.vx, s.vy, s.sound_speed, self.cfl, self.dvmax, s.axisymmetric)
+        if deck.time.dt_initial is not None:
+            dt0 = min(dt0, deck.time.dt_initial)
+        s.dt = min(dt0, self.dt_max, self.t_end)
+        s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
 
     # ------------------------------------------------------------------ hooks
     def register_interface(self, obj: Interface) -> None:

@@ -86,6 +86,13 @@ def bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3):
 
 
 @njit(cache=True)
+def axi_volume(x0, x1, x2, x3, y0, y1, y2, y3):
+    """int r dA over the quad (straight edges): sum over edges of (y_b - y_a)(x_a^2 + x_a x_b + x_b^2)/6."""
+    return ((y1 - y0) * (x0 * x0 + x0 * x1 + x1 * x1) + (y2 - y1) * (x1 * x1 + x1 * x2 + x2 * x2)
+            + (y3 - y2) * (x2 * x2 + x2 * x3 + x3 * x3) + (y0 - y3) * (x3 * x3 + x3 * x0 + x0 * x0)) / 6.0
+
+
+@njit(cache=True)
 def min_jacobian(x0, x1, x2, x3, y0, y1, y2, y3):
     """Smallest corner cross product (<= 0: inverted or bow-tie cell)."""
     j0 = (x1 - x0) * (y3 - y0) - (y1 - y0) * (x3 - x0)

@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit, prange
 
 from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_s, temperature
-from shockfriction.hydro.geometry import bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area
+from shockfriction.hydro.geometry import axi_volume, bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area
 from shockfriction.hydro.matprops import (
     EOS_IDEAL_GAS, STRENGTH_EPP, P_C0, P_CV, P_EOS, P_G0, P_G_CONST, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_PMIN, P_RHO0, P_S,
     P_SCG, P_STRENGTH, P_T0, P_Y0, STRENGTH_NONE,
@@ -281,7 +281,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         d2 = (xa3 - xa1) ** 2 + (ya3 - ya1) ** 2
         dmax = math.sqrt(d1 if d1 > d2 else d2)
         if axi:
-            v1 = bvec_axi(xa0, xa1, xa2, xa3, ya0, ya1, ya2, ya3)[12]
+            v1 = axi_volume(xa0, xa1, xa2, xa3, ya0, ya1, ya2, ya3)
         else:
             v1 = area1
         if not (jmin > 0.0 and v1 > 0.0):
@@ -491,15 +491,27 @@ def reduce_time_step(dtcell, errcell):
 
 
 @njit(cache=True)
-def initial_time_step(conn, x, y, cs, cfl):
-    """cfl * min over cells of (area / max diagonal) / c."""
+def initial_time_step(conn, x, y, vx, vy, cs, cfl, dvmax, axi):
+    """First step: cfl (area / max diagonal)/c, and <= dvmax/|div v^0| (the volume-change cap
+    with the initial velocity field)."""
     dtmin = 1e300
     for c in range(conn.shape[0]):
         n0, n1, n2, n3 = conn[c, 0], conn[c, 1], conn[c, 2], conn[c, 3]
-        area = quad_area(x[n0], x[n1], x[n2], x[n3], y[n0], y[n1], y[n2], y[n3])
-        d1 = (x[n2] - x[n0]) ** 2 + (y[n2] - y[n0]) ** 2
-        d2 = (x[n3] - x[n1]) ** 2 + (y[n3] - y[n1]) ** 2
+        x0, x1, x2, x3 = x[n0], x[n1], x[n2], x[n3]
+        y0, y1, y2, y3 = y[n0], y[n1], y[n2], y[n3]
+        area = quad_area(x0, x1, x2, x3, y0, y1, y2, y3)
+        d1 = (x2 - x0) ** 2 + (y2 - y0) ** 2
+        d2 = (x3 - x1) ** 2 + (y3 - y1) ** 2
         dt = cfl * area / math.sqrt(max(d1, d2)) / cs[c]
+        if axi:
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, vol = bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3)
+        else:
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3, vol = bvec_planar(x0, x1, x2, x3, y0, y1, y2, y3)
+            h0 = h1 = h2 = h3 = 0.0
+        div = ((bx0 + h0) * vx[n0] + (bx1 + h1) * vx[n1] + (bx2 + h2) * vx[n2] + (bx3 + h3) * vx[n3]
+               + by0 * vy[n0] + by1 * vy[n1] + by2 * vy[n2] + by3 * vy[n3]) / vol
+        if div != 0.0 and dvmax / abs(div) < dt:
+            dt = dvmax / abs(div)
         if dt < dtmin:
             dtmin = dt
     return dtmin

@@ -52,7 +52,7 @@ def hardening(eps, y0, beta, n, ymax):
     y = y0 * base ** n
     if y >= ymax:
         return ymax, 0.0
-    return y, y0 * n * beta * base ** (n - 1.0)
+    return y, y * n * beta / base
 
 
 @njit(cache=True)

@@ -222,6 +222,11 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     for k, body in enumerate(deck.bodies):
         s0, s1 = mesh.node_start[k], mesh.node_start[k + 1]
         vx[s0:s1], vy[s0:s1] = body.velocity
+        if body.radial_velocity is not None:  # v = v_r (x, y)/|(x, y)| added (Noh-type problems)
+            rr = np.hypot(mesh.x[s0:s1], mesh.y[s0:s1])
+            safe = np.where(rr > 0.0, rr, 1.0)
+            vx[s0:s1] += np.where(rr > 0.0, body.radial_velocity * mesh.x[s0:s1] / safe, 0.0)
+            vy[s0:s1] += np.where(rr > 0.0, body.radial_velocity * mesh.y[s0:s1] / safe, 0.0)
 
     # ---- node groups: periodic sides and ties
     pairs: list[tuple[int, int]] = []
