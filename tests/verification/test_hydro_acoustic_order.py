@@ -32,6 +32,7 @@ def _prepared(cells, width=None, t_end=None):
     deck["time"]["end"] = f"{t_end if t_end is not None else 0.5 * np.pi / OMEGA} s"
     sim = prepare(deck)
     sim.state.vy[:] = AMPLITUDE * np.sin(K * sim.state.y)
+    sim.reinitialize()  # first step and initial energy from the edited velocities
     return sim
 
 
