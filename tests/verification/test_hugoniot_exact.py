@@ -141,3 +141,44 @@ def test_elastic_plastic_impedance_match():
     assert weak.particle_velocity == pytest.approx(hydro.particle_velocity, rel=1e-6)
     # strength stiffens the loading path: the interface stress rises above the hydrodynamic one
     assert asym.stress > hydro.pressure
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@settings(max_examples=60, deadline=None)
+@given(rho0=st.floats(1000.0, 20000.0), c0=st.floats(2000.0, 8000.0), s=st.floats(0.8, 2.0),
+       gamma0=st.floats(1.0, 3.0), shear=st.floats(10e9, 100e9), yield_stress=st.floats(0.05e9, 2e9),
+       up=st.floats(1.0, 1000.0))
+def test_piston_jumps_hold_for_any_material(rho0, c0, s, gamma0, shear, yield_stress, up):
+    """Mass, momentum and energy balance across every wave of the piston solution, for random
+    materials and drives (one elastic wave or precursor + plastic shock)."""
+    eos = H.LinearHugoniotEOS(rho0=rho0, c0=c0, s=s, gamma0=gamma0)
+    sol = H.elastic_plastic_piston(eos, shear, yield_stress, up)
+    rest = H.UniaxialState(rho0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert sol.final.u == pytest.approx(up, rel=1e-9)
+    for residual in _jump_residuals(rest, sol.precursor, sol.precursor_speed):
+        assert residual < 1e-9
+    if sol.two_waves:
+        for residual in _jump_residuals(sol.precursor, sol.final, sol.plastic_speed):
+            assert residual < 1e-9
+        assert sol.plastic_speed < sol.precursor_speed
+    if sol.final.stress > sol.hel:  # two waves or one overdriven plastic shock: on yield
+        assert -1.5 * sol.final.s_xx == pytest.approx(yield_stress, rel=1e-9)
+    else:  # one elastic wave, below the HEL
+        assert not sol.two_waves and -1.5 * sol.final.s_xx <= yield_stress * (1 + 1e-9)
+
+
+def test_overdriven_plastic_shock_is_single_and_faster_than_the_hel_precursor():
+    """At a high drive the plastic shock outruns the precursor: one shock, faster than c_L-ish HEL wave."""
+    sol = H.elastic_plastic_piston(AL, G_AL, Y_AL, 3000.0)
+    hel = H.hugoniot_elastic_limit(AL, G_AL, Y_AL)
+    hel_speed = hel.rho * hel.u / (hel.rho - AL.rho0)
+    assert not sol.two_waves and sol.precursor_speed > hel_speed
+    rest = H.UniaxialState(AL.rho0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    for residual in _jump_residuals(rest, sol.final, sol.precursor_speed):
+        assert residual < 1e-10
+    # strength vanishing: the hydrodynamic Hugoniot at 3000 m/s
+    weak = H.elastic_plastic_piston(AL, G_AL, 1e2, 3000.0)
+    assert weak.final.pressure == pytest.approx(AL.hugoniot_pressure_of_up(3000.0), rel=1e-6)

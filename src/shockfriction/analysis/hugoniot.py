@@ -217,8 +217,13 @@ def hugoniot_elastic_limit(eos: LinearHugoniotEOS, shear_modulus: float,
 
 
 def _plastic_state(eos: LinearHugoniotEOS, G: float, yield_stress, ahead: UniaxialState,
-                   rho: float) -> UniaxialState:
-    """State on yield at density rho reached by one shock from `ahead` (energy jump closed form)."""
+                   rho: float, stored: float | None = None) -> UniaxialState:
+    """State on yield at density rho reached by one shock from `ahead` (energy jump closed form).
+
+    `stored` is the shear energy stored on yield for perfect plasticity (default: that of
+    `ahead`, which is then itself on yield); a yield function uses 3 S_xx^2 / (8 G rho).
+    """
+    stored = ahead.elastic_energy if stored is None else stored
     dv = 1.0 / ahead.rho - 1.0 / rho
     log_total = np.log(rho / eos.rho0)
     a, b = eos.linear_in_energy(rho)
@@ -226,7 +231,7 @@ def _plastic_state(eos: LinearHugoniotEOS, G: float, yield_stress, ahead: Uniaxi
     for _ in range(50):  # fixed point on Y(P, eps_p) (one pass for perfect plasticity)
         s_xx = -2.0 / 3.0 * y
         eps_p = max(2.0 / 3.0 * (log_total - y / (2.0 * G)), 0.0)
-        w_el = 3.0 * s_xx**2 / (8.0 * G * rho) if callable(yield_stress) else ahead.elastic_energy
+        w_el = 3.0 * s_xx**2 / (8.0 * G * rho) if callable(yield_stress) else stored
         base = ahead.e + ahead.elastic_energy - w_el
         stress = (a + b * (base + 0.5 * ahead.stress * dv) - s_xx) / (1.0 - 0.5 * b * dv)
         pressure = stress + s_xx
@@ -246,7 +251,9 @@ def elastic_plastic_piston(eos: LinearHugoniotEOS, shear_modulus: float,
     """Waves driven into material at rest by a piston at constant velocity (uniaxial strain).
 
     Below the HEL particle velocity one elastic shock; above it the elastic precursor
-    (HEL state) and a slower plastic shock to the piston velocity.
+    (HEL state) and a slower plastic shock to the piston velocity; when the plastic shock
+    would be faster than the precursor (overdriven), one plastic shock from rest
+    (`plastic_speed` None, `precursor` = `final`).
     """
     if piston_velocity <= 0.0:
         raise ValueError(f"piston velocity must be positive, got {piston_velocity}")
@@ -273,8 +280,23 @@ def elastic_plastic_piston(eos: LinearHugoniotEOS, shear_modulus: float,
     final = _plastic_state(eos, G, yield_stress, hel, rho)
     # lab-frame plastic shock speed from mass: rho_a (U - u_a) = rho_b (U - u_b)
     plastic_speed = (final.rho * final.u - hel.rho * hel.u) / (final.rho - hel.rho)
-    return TwoWaveSolution(precursor=hel, final=final, precursor_speed=hel_speed,
-                           plastic_speed=plastic_speed, hel=hel.stress)
+    if plastic_speed < hel_speed:
+        return TwoWaveSolution(precursor=hel, final=final, precursor_speed=hel_speed,
+                               plastic_speed=plastic_speed, hel=hel.stress)
+    # overdriven: the plastic shock would outrun the precursor, so one shock from rest to yield
+    rest = UniaxialState(rho=eos.rho0, u=0.0, e=0.0, pressure=0.0, s_xx=0.0, stress=0.0,
+                         plastic_strain=0.0, elastic_energy=0.0)
+
+    def mismatch_single(rho_b):
+        return _plastic_state(eos, G, yield_stress, rest, rho_b, hel.elastic_energy).u - piston_velocity
+    hi = final.rho * 1.01
+    while mismatch_single(hi) < 0.0:
+        hi = eos.rho0 + 2.0 * (hi - eos.rho0)
+    rho = brentq(mismatch_single, hel.rho, hi, xtol=1e-13 * hel.rho, rtol=1e-15)
+    final = _plastic_state(eos, G, yield_stress, rest, rho, hel.elastic_energy)
+    speed = final.rho * final.u / (final.rho - eos.rho0)
+    return TwoWaveSolution(precursor=final, final=final, precursor_speed=speed, plastic_speed=None,
+                           hel=hel.stress)
 
 
 def symmetric_impact(eos: LinearHugoniotEOS, shear_modulus: float, yield_stress: float | YieldFunction,
