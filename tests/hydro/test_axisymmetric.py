@@ -1,7 +1,6 @@
 """Axisymmetric (r-z) runs against plane strain in the 1D limit, and r-z specifics."""
 
 import numpy as np
-import pytest
 
 from shockfriction.hydro.api import run_dict
 

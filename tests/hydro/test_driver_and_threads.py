@@ -48,16 +48,16 @@ def test_piston_driven_shock_in_an_ideal_gas():
 
 
 class Brake:
-    """A test interface: removes a fraction of every node's velocity and puts the lost
-    kinetic energy into the first cell as heat (like friction with heating)."""
+    """A test interface: a drag impulse -rate dt v on every node; the lost kinetic energy goes
+    into the first cell as heat (like friction with heating)."""
 
-    def __init__(self, frac):
-        self.frac = frac
+    def __init__(self, rate):
+        self.rate = rate
 
     def apply(self, state, dt, t, cycle):
         v_old_x, v_old_y = state.vx.copy(), state.vy.copy()
-        state.vx *= 1 - self.frac
-        state.vy *= 1 - self.frac
+        state.vx *= 1 - self.rate * dt
+        state.vy *= 1 - self.rate * dt
         lost = 0.5 * np.sum(state.mass_own * (v_old_x**2 + v_old_y**2 - state.vx**2 - state.vy**2))
         state.e[0] += lost / state.cell_mass[0]
         state.energy.interface_heat += lost
@@ -71,7 +71,7 @@ def test_interface_hook_energy_bookkeeping():
                         "mesh": {"corners": [["0 mm", "0 mm"], ["2 mm", "0 mm"], ["2 mm", "2 mm"], ["0 mm", "2 mm"]],
                                  "nx": 4, "ny": 4}}]}
     sim = prepare(deck)
-    sim.register_interface(Brake(3e-3))
+    sim.register_interface(Brake(1e5))  # 1/s
     res = run_simulation(sim)
     e = res.energy
     print(f"kinetic {e['kinetic'][0]:.4g} -> {e['kinetic'][-1]:.4g} J/m, interface work "
@@ -98,3 +98,31 @@ def test_parallel_kernels_match_serial():
         scale = max(np.abs(u).max(), 1e-30)
         assert np.abs(u - v).max() <= 1e-9 * scale, name
     assert a.eps_p.max() > 0
+
+
+class Recorder:
+    """An interface with the optional hooks: counts after_step calls, is closed at the end."""
+
+    def __init__(self):
+        self.applied, self.after, self.closed, self.times = 0, 0, False, []
+
+    def apply(self, state, dt, t, cycle):
+        self.applied += 1
+
+    def after_step(self, state, dt, t, cycle):
+        self.after += 1
+        self.times.append((t, cycle))
+
+    def close(self):
+        self.closed = True
+
+
+def test_optional_interface_hooks(make_strip, tmp_path):
+    rec = Recorder()
+    sim = prepare(make_strip(ny_flyer=4, ny_target=10, end="0.3 us"), interfaces=[rec])
+    res = run_simulation(sim, tmp_path)
+    assert sim.out_dir == tmp_path
+    assert rec.closed
+    assert rec.after == res.state.cycle
+    assert rec.applied == res.state.cycle + 1  # and the final record's velocity update
+    assert rec.times[-1] == (res.state.t, res.state.cycle)

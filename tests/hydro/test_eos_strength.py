@@ -117,3 +117,20 @@ def test_melted_cell_has_no_deviator():
     props, _ = _row(strength="scg")
     sxx, syy, sxy, deps, y = radial_return(1e8, -1e8, 1e7, 0.0, 0.0, 0.0, props, 0)
     assert (sxx, syy, sxy, y) == (0.0, 0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("name", ["Al5083-H111", "AISI321", "Cu-OFHC"])
+def test_scalar_hardening_is_the_shared_scg_module(name):
+    """The return mapping's scalar hardening (value and slope) is the shared SCG law."""
+    from shockfriction.hydro.plasticity import hardening
+    from shockfriction.materials.strength import scg_hardening
+
+    m = get_material(name)
+    p = m.scg_params()
+    for eps in (0.0, 1e-4, 0.01, 0.1, 1.0, 5.0):
+        h, dh = hardening(eps, m.Y0, m.scg_beta, m.scg_n, m.Ymax)
+        assert h == pytest.approx(scg_hardening(eps, p), rel=1e-14)
+        d = 1e-7 * (1 + eps)
+        slope = (scg_hardening(eps + d, p) - scg_hardening(max(eps - d, 0.0), p)) / (eps + d - max(eps - d, 0.0))
+        if h < m.Ymax * (1 - 1e-6):
+            assert dh == pytest.approx(slope, rel=1e-5)

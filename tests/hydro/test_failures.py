@@ -77,3 +77,26 @@ def test_cli_run_writes_every_output(tmp_path):
         steps = sorted(k for k in f if k.startswith("step_"))
         assert len(steps) == 6  # 0, 0.5, ..., 2.5 us
         assert f[steps[-1]]["p"].shape == f["connectivity"].shape[:1]
+
+
+@pytest.mark.parametrize("edit, fragment", [
+    (lambda d: d["bodies"][1]["boundary"].update(left="periodic", right="free"),
+     "periodic must be given on both left and right"),
+    (lambda d: d["bodies"][1]["mesh"].update(nx=2), "the sides have 2 and 3 nodes"),
+    (lambda d: d["ties"][0].update(sides=["flyer.top", "target.top"]), "do not coincide"),
+    (lambda d: d["bodies"][1].update(material="Unobtainium"), "unknown material"),
+    (lambda d: d["probes"][0].update(node=[5, 0]), "probes[0].node"),
+    (lambda d: d["bodies"][1].update(eos="ideal-gas", material=None), "needs density and gamma"),
+    (lambda d: d["bodies"][1]["mesh"].update(sides={"right": [["0.1 mm", "0 mm"], ["0.2 mm", "0.5 mm"],
+                                                              ["0.1 mm", "1 mm"]]}),
+     "'symmetry' needs a straight side"),
+    (lambda d: d["time"].update(end="-1 us"), "time.end"),
+    (lambda d: d.update(geometry="spherical"), "geometry"),
+])
+def test_bad_decks_name_field_and_expectation(make_strip, edit, fragment):
+    d = make_strip(ny_flyer=4, ny_target=10)
+    edit(d)
+    with pytest.raises(DeckError) as exc:
+        prepare(d)
+    print(exc.value)
+    assert fragment in str(exc.value)

@@ -42,9 +42,19 @@ def test_point_probe_follows_the_nearest_node_and_cell(make_strip):
 @pytest.mark.parametrize("name, check", [
     ("pressure_shear_strip.toml", lambda r: r.probes["fs.vx"].max() > 40.0),
     ("taylor_anvil_cu.toml", lambda r: 0.6 < r.probes["top.y"][-1] / 25.4e-3 < 0.75),
+    ("cone_impact_axi.toml", lambda r: r.probes["tip.vy"].max() > 40.0),
 ])
 def test_examples_run(name, check, tmp_path):
     res = run(EXAMPLES / name, tmp_path)
     assert res.summary["completed"]
     assert check(res)
     assert res.summary["relative_energy_error"] < 5e-3
+
+
+def test_max_cycles_stops_and_says_so(make_strip, tmp_path):
+    deck = make_strip(ny_flyer=4, ny_target=10)
+    deck["time"]["max_cycles"] = 7
+    res = run_dict(deck, tmp_path)
+    assert res.state.cycle == 7 and not res.summary["completed"]
+    import json
+    assert json.loads((tmp_path / "summary.json").read_text())["completed"] is False

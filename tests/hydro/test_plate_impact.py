@@ -64,3 +64,45 @@ def test_momentum_is_conserved(result):
     print(f"momentum y {py:.15e} (initial {p0:.15e})")
     assert py == pytest.approx(p0, rel=1e-12)
     assert abs(px) < 1e-12 * p0
+
+
+def test_edge_viscosity_gives_the_same_hugoniot_state(make_strip):
+    """The edge viscosity reduces to the scalar one in 1D: same plateau, energy conserved."""
+    deck = make_strip()
+    deck["viscosity"] = {"kind": "edge"}
+    res = run_dict(deck)
+    al = get_material("Al6061-T6")
+    us = al.eos_c0 + al.eos_s * 125.0
+    t = res.probes["t_s"]
+    sel = (t > 1.2e-6) & (t < 1.6e-6)
+    p = res.probes["mid.p"][sel].mean()
+    print(f"edge viscosity: P = {p / 1e9:.4f} GPa, energy error {res.summary['relative_energy_error']:.1e}")
+    assert p == pytest.approx(al.rho0 * us * 125.0, rel=0.02)
+    assert np.all(res.probes["mid.q"] == 0.0)  # no cell q: the viscosity is in the nodal forces
+    assert res.summary["relative_energy_error"] < 1e-3
+    v = res.probes["fs.vy"][t > 2.1e-6].mean()
+    assert v == pytest.approx(250.0, rel=0.02)
+
+
+def test_dissimilar_impact_matches_impedance_matching(make_strip):
+    """SS304 flyer on an Al 6061-T6 target at 500 m/s (tied at impact): the shocked pressure of
+    both sides is the crossing of their Hugoniots, rho0 (c0 + s u) u."""
+    from scipy.optimize import brentq
+
+    deck = make_strip(velocity="500 m/s", end="1.6 us")
+    deck["bodies"][0]["material"] = "SS304"
+    deck["probes"].append({"name": "fly", "body": "flyer", "cell": [0, 20], "quantities": ["p"]})
+    res = run_dict(deck)
+    st, al = get_material("SS304"), get_material("Al6061-T6")
+
+    def mismatch(u):  # u: particle velocity of the target
+        return al.rho0 * (al.eos_c0 + al.eos_s * u) * u - st.rho0 * (st.eos_c0 + st.eos_s * (500 - u)) * (500 - u)
+
+    u = brentq(mismatch, 0.0, 500.0)
+    p_exact = al.rho0 * (al.eos_c0 + al.eos_s * u) * u
+    t = res.probes["t_s"]
+    p_target = res.probes["mid.p"][(t > 1.2e-6) & (t < 1.5e-6)].mean()
+    p_flyer = res.probes["fly.p"][(t > 0.6e-6) & (t < 1.0e-6)].mean()
+    print(f"u = {u:.2f} m/s, P = {p_exact / 1e9:.4f} GPa; target {p_target / 1e9:.4f}, flyer {p_flyer / 1e9:.4f}")
+    assert p_target == pytest.approx(p_exact, rel=0.01)
+    assert p_flyer == pytest.approx(p_exact, rel=0.01)

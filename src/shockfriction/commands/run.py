@@ -25,6 +25,8 @@ def register(app: typer.Typer) -> None:
         sim = prepare(deck, threads=threads)
         res = run_simulation(sim, out, progress=not quiet)
         s = res.summary
+        if not s["completed"]:
+            Console(stderr=True).print(f"[yellow]stopped at max_cycles = {s['cycles']} before the end time[/]")
         Console().print(
             f"{s['cycles']} cycles to t = {s['final_time_s']:.4e} s in {s['wall_time_s']:.2f} s "
             f"({s['zone_cycles_per_second'] or 0:.3g} zone-cycles/s), relative energy error "

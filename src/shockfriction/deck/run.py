@@ -61,7 +61,8 @@ class MeshSpec(DeckModel):
                 raise ValueError(f"sides.{name}: a polyline needs at least two points")
             a, b = ends[name]
             for given, corner, which in ((pts[0], c[a], "first"), (pts[-1], c[b], "last")):
-                if max(abs(given[0] - corner[0]), abs(given[1] - corner[1])) > 1e-9 * (1 + abs(corner[0]) + abs(corner[1])):
+                tol = 1e-9 * (1 + abs(corner[0]) + abs(corner[1]))
+                if max(abs(given[0] - corner[0]), abs(given[1] - corner[1])) > tol:
                     raise ValueError(f"sides.{name}: the {which} point must be the corner {corner} "
                                      "(side polylines run counter-clockwise from corner to corner)")
         return self
@@ -155,6 +156,8 @@ class TimeSpec(DeckModel):
 
 class Viscosity(DeckModel):
     """Artificial viscosity (compression only) and hourglass control coefficients."""
+
+    kind: Literal["scalar", "edge"] = "scalar"
 
     quadratic: float = Field(default=2.0, ge=0.0)
     linear: float = Field(default=0.15, ge=0.0)

@@ -103,6 +103,7 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
     from shockfriction.io.histories import CsvHistory
 
     out = Path(out_dir) if out_dir is not None else None
+    sim.out_dir = out
     writers = []
     fields = None
     if out is not None:
@@ -149,7 +150,7 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
             summary["total_wall_time_s"] = time.perf_counter() - started
             (out / "summary.json").write_text(json.dumps(summary, indent=2))
     summary = summarize(sim)
-    summary["completed"] = True
+    summary["completed"] = sim.state.t >= sim.t_end * (1 - 1e-12)
     return Result(sim.probe_history(), sim.energy_history(), sim.state, sim.mesh, summary, out, sim)
 
 

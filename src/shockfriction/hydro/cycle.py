@@ -63,7 +63,9 @@ class Simulation:
         self.problem = problem
         self.mesh = problem.mesh
         self.state = problem.state
-        self.interfaces: list[Interface] = list(interfaces or [])
+        self.interfaces: list[Interface] = []
+        self._after_step: list = []
+        self.out_dir = None
         deck = problem.deck
         self.t_end = deck.time.end
         self.cfl = deck.time.cfl
@@ -74,6 +76,7 @@ class Simulation:
         self.cq = deck.viscosity.quadratic
         self.cl = deck.viscosity.linear
         self.hg = deck.viscosity.hourglass
+        self.qedge = deck.viscosity.kind == "edge"
         threads = deck.threads if threads is None else threads
         self.threads = numba.config.NUMBA_NUM_THREADS if threads == 0 else min(threads, numba.config.NUMBA_NUM_THREADS)
         self.parallel = self.threads > 1
@@ -85,7 +88,17 @@ class Simulation:
         self._vy_old = np.empty(nn)
         self._vx_free = np.empty(nn)
         self._vy_free = np.empty(nn)
+        self._vx_pre = np.empty(nn)
+        self._vy_pre = np.empty(nn)
+        # velocity jumps of constraints and interfaces, this step and the previous one (energy budget)
+        self._jx_bc, self._jy_bc = np.zeros(nn), np.zeros(nn)
+        self._jx_bc_prev, self._jy_bc_prev = np.zeros(nn), np.zeros(nn)
+        self._jx_int, self._jy_int = np.zeros(nn), np.zeros(nn)
+        self._jx_int_prev, self._jy_int_prev = np.zeros(nn), np.zeros(nn)
+        self._int_active = False
+        self._finished = False
         self._corner = np.zeros((nc, 8))
+        self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
@@ -105,8 +118,11 @@ class Simulation:
         self.probe_rows: list[tuple] = []
         self.probe_columns = [f"{p.name}.{q}" for p in problem.probes for q in p.quantities]
         self.probe_every = deck.output.probe_every
+        self._getters = [self._probe_getter(q, p.index) for p in problem.probes for q in p.quantities]
         self.observers: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
+        for obj in interfaces or []:
+            self.register_interface(obj)
 
     def reinitialize(self) -> None:
         """After editing the initial state by hand (``state.e``, ``rho``, ``vx``, ...) at t = 0:
@@ -126,8 +142,15 @@ class Simulation:
 
     # ------------------------------------------------------------------ hooks
     def register_interface(self, obj: Interface) -> None:
-        """Add an interface (slide line, driver) called every cycle after the free velocities."""
+        """Add an interface (slide line, driver) called every cycle after the free velocities.
+
+        Optional methods of the object: ``after_step(state, dt, t, cycle)`` is called at the end
+        of each cycle (positions and cells at t^{n+1} = t, dt the step just done), ``close()``
+        when the run ends (also on failure); ``simulation.out_dir`` is the output folder of the
+        run (None without one), for interface histories."""
         self.interfaces.append(obj)
+        if hasattr(obj, "after_step"):
+            self._after_step.append(obj)
 
     def _fail(self, cell: int, code: int) -> None:
         s = self.state
@@ -136,12 +159,12 @@ class Simulation:
             f"body {name!r}, cell ({i}, {j}) [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
-    def _forces(self, dt: float) -> None:
-        """Nodal forces F^n into state.fx, fy (hourglass heat dt * power into e)."""
+    def _forces(self) -> None:
+        """Nodal forces F^n into state.fx, fy (viscous corner forces kept for their heat)."""
         s = self.state
         corner = K.corner_forces_parallel if self.parallel else K.corner_forces_serial
         corner(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
-               s.cell_mass, s.e, s.axisymmetric, self.hg, dt, self._corner)
+               s.axisymmetric, self.hg, self._corner, self._vcorner, self.qedge, self.cq, self.cl)
         if self.parallel:
             K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
         else:
@@ -149,23 +172,38 @@ class Simulation:
 
     # ------------------------------------------------------------------ one cycle
     def step(self) -> None:
+        """Advance t^n -> t^{n+1} (steps 1-6 of the module docstring)."""
+        if self._finished:
+            raise RuntimeError("this simulation has finished (its velocities are at the final time)")
+        self._velocity_stage(final=False)
+        dt = self.state.dt
+        self._advance_stage()
+        for obj in self._after_step:
+            obj.after_step(self.state, dt, self.state.t, self.state.cycle)
+
+    def _velocity_stage(self, final: bool) -> None:
+        """Steps 1-4 and the histories at t^n.  ``final``: the row at the end time, with a virtual
+        next step as long as the last one (the velocities end half a step past t_end)."""
         s = self.state
+        if final:
+            s.dt = self._dt_prev
         dt = s.dt
         dtv = 0.5 * (self._dt_prev + dt)
         s.dt_velocity = dtv
         ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
         # 1-2 forces
-        self._forces(dtv)
+        self._forces()
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
         en = s.energy
-        before = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
+        q_before = en.interface_heat
         # 3 free velocities and boundary constraints
         self._vx_old[:] = s.vx
         self._vy_old[:] = s.vy
         K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv)
-        s.energy.boundary_work += K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own,
-                                                      *self._cons, dtv)
+        self._vx_pre[:] = s.vx
+        self._vy_pre[:] = s.vy
+        K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
         # 4 interfaces
         if self.interfaces:
             self._vx_free[:] = s.vx
@@ -174,18 +212,38 @@ class Simulation:
                 obj.apply(s, dtv, s.t, s.cycle)
             if self._grp[0].shape[0] > 1:
                 K.sync_groups(s.vx, s.vy, self._vx_free, self._vy_free, *self._grp)
-            dvx = s.vx - self._vx_free
-            dvy = s.vy - self._vy_free
-            s.energy.interface_work += 0.5 * float(np.sum(s.mass_own * (dvx * (self._vx_old + s.vx)
-                                                                        + dvy * (self._vy_old + s.vy))))
-            s.energy.boundary_work += K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own,
-                                                          *self._cons, dtv)
-        if s.cycle % self.probe_every == 0:
-            # the exchanges of this step are centred at t^n: half of them count at t^n
-            after = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
-            mid = tuple(0.5 * (a + b) for a, b in zip(before, after))
+            self._jx_int[:] = s.vx - self._vx_free
+            self._jy_int[:] = s.vy - self._vy_free
+            self._vx_pre += self._jx_int  # constraint impulses = what the constraints changed
+            self._vy_pre += self._jy_int
+            K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
+            en.interface_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_int, self._jy_int,
+                                                self._jx_int_prev, self._jy_int_prev)
+        elif self._int_active:
+            self._jx_int[:] = 0.0
+            self._jy_int[:] = 0.0
+            en.interface_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_int, self._jy_int,
+                                                self._jx_int_prev, self._jy_int_prev)
+        self._int_active = bool(self.interfaces)
+        if self._cons[0].shape[0]:
+            self._jx_bc[:] = s.vx - self._vx_pre
+            self._jy_bc[:] = s.vy - self._vy_pre
+            en.boundary_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_bc, self._jy_bc,
+                                               self._jx_bc_prev, self._jy_bc_prev)
+        # heat of the hourglass / edge-viscosity forces over this velocity step
+        heat = K.viscous_heat_parallel if self.parallel else K.viscous_heat_serial
+        qv = heat(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv, s.cell_mass, s.e)
+        if final or s.cycle % self.probe_every == 0:
+            # heat put into cells during this step counts half at t^n (it is centred there)
+            q_int = 0.5 * (q_before + en.interface_heat)
             self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own),
-                         ie + 0.5 * (after[2] - before[2]), mid)
+                         ie + 0.5 * qv + (q_int - q_before),
+                         (en.boundary_work, en.interface_work, q_int, en.friction_work))
+
+    def _advance_stage(self) -> None:
+        """Steps 5-6: positions, cells, next time step."""
+        s = self.state
+        dt = s.dt
         # 5 positions
         K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
         # 6 cells
@@ -193,7 +251,7 @@ class Simulation:
         update(s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-               self.dvmax, self._dtcell, self._errcell)
+               self.dvmax, self._dtcell, self._errcell, self.qedge)
         dtn, bad, code = K.reduce_time_step(self._dtcell, self._errcell)
         if bad >= 0:
             self._fail(bad, code)
@@ -202,9 +260,9 @@ class Simulation:
         self._dt_prev = dt
         dtn = min(dtn, self.dt_growth * dt, self.dt_max)
         remaining = self.t_end - s.t
-        if dtn > remaining:
+        if dtn >= remaining * (1.0 - 1e-9):
             dtn = remaining
-        elif dtn > 0.5 * remaining:  # avoid a sliver of a last step
+        elif remaining - dtn < 0.1 * dtn:  # avoid a sliver of a last step: two equal ones
             dtn = 0.5 * remaining
         s.dt = dtn
 
@@ -220,57 +278,37 @@ class Simulation:
         total = ke + ie
         err = total - (en.initial + wbc + wint + qint)
         self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * err))
-        if self.problem.probes:
-            row = [s.t]
-            for p in self.problem.probes:
-                i = p.index
-                for qn in p.quantities:
-                    row.append(self._probe_value(qn, i))
-            self.probe_rows.append(tuple(row))
+        if self._getters:
+            self.probe_rows.append((s.t, *[float(g()) for g in self._getters]))
         for obs in self.observers:
             obs(self)
 
-    def _probe_value(self, qn: str, i: int) -> float:
+    def _probe_getter(self, qn: str, i: int) -> Callable[[], float]:
+        """A function returning probe quantity ``qn`` of node/cell ``i`` at t^n."""
         s = self.state
-        if qn == "vx":
-            return 0.5 * (self._vx_old[i] + s.vx[i])
-        if qn == "vy":
-            return 0.5 * (self._vy_old[i] + s.vy[i])
-        if qn == "x":
-            return s.x[i]
-        if qn == "y":
-            return s.y[i]
-        ptot = s.pressure[i] + s.q[i]
-        szz = -(s.sxx[i] + s.syy[i])
-        table = {
-            "p": s.pressure[i], "q": s.q[i], "sxx": s.sxx[i], "syy": s.syy[i], "sxy": s.sxy[i], "szz": szz,
-            "sigma_xx": s.sxx[i] - ptot, "sigma_yy": s.syy[i] - ptot, "sigma_xy": s.sxy[i],
-            "sigma_zz": szz - ptot, "rho": s.rho[i], "e": s.e[i], "T": s.temperature[i], "eps_p": s.eps_p[i],
-            "Y": s.yield_stress[i], "G": s.shear_modulus[i],
+        node = {"vx": lambda: 0.5 * (self._vx_old[i] + s.vx[i]), "vy": lambda: 0.5 * (self._vy_old[i] + s.vy[i]),
+                "x": lambda: s.x[i], "y": lambda: s.y[i]}
+        if qn in node:
+            return node[qn]
+        cell = {
+            "p": lambda: s.pressure[i], "q": lambda: s.q[i], "sxx": lambda: s.sxx[i], "syy": lambda: s.syy[i],
+            "sxy": lambda: s.sxy[i], "szz": lambda: -(s.sxx[i] + s.syy[i]),
+            "sigma_xx": lambda: s.sxx[i] - s.pressure[i] - s.q[i],
+            "sigma_yy": lambda: s.syy[i] - s.pressure[i] - s.q[i],
+            "sigma_xy": lambda: s.sxy[i],
+            "sigma_zz": lambda: -(s.sxx[i] + s.syy[i]) - s.pressure[i] - s.q[i],
+            "rho": lambda: s.rho[i], "e": lambda: s.e[i], "T": lambda: s.temperature[i], "eps_p": lambda: s.eps_p[i],
+            "Y": lambda: s.yield_stress[i], "G": lambda: s.shear_modulus[i],
         }
-        return float(table[qn])
+        return cell[qn]
 
     def record_final(self) -> None:
-        """Add the state at the final time (kinetic energy from a half step of the final forces)."""
-        s = self.state
-        ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
-        fx, fy = s.fx.copy(), s.fy.copy()
-        self._forces(0.0)
-        if self._grp[0].shape[0] > 1:
-            K.sum_groups(s.fx, s.fy, *self._grp)
-        self._vx_old[:] = s.vx
-        self._vy_old[:] = s.vy
-        vx, vy = s.vx.copy(), s.vy.copy()
-        K.advance_velocities(vx, vy, s.fx, s.fy, s.mass, 0.5 * self._dt_prev)
-        K.apply_constraints(vx, vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, 0.0)
-        s.fx[:], s.fy[:] = fx, fy
-        ke = K.kinetic_energy(vx, vy, s.mass_own)
-        vsave = (s.vx, s.vy)
-        s.vx, s.vy = vx, vy
-        self._vx_old[:] = vx
-        self._vy_old[:] = vy
-        self._record(ke, ie)
-        s.vx, s.vy = vsave
+        """The state at the end time as the last history row: the forces at t^N and the velocity
+        update of a virtual next step (interfaces and constraints included), so that the row is
+        centred at t^N like every other.  The simulation is then finished."""
+        if not self._finished:
+            self._velocity_stage(final=True)
+            self._finished = True
 
     # ------------------------------------------------------------------ loop
     def run(self, progress: Callable[[float], None] | None = None) -> None:
@@ -285,6 +323,9 @@ class Simulation:
             self.record_final()
         finally:
             self.wall_time += _time.perf_counter() - start
+            for obj in self.interfaces:
+                if hasattr(obj, "close"):
+                    obj.close()
 
     # ------------------------------------------------------------------ diagnostics
     def momentum(self) -> tuple[float, float]:

@@ -26,15 +26,14 @@ import numpy as np
 from numba import njit, prange
 
 from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_s, temperature
-from shockfriction.hydro.geometry import axi_volume, bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area
+from shockfriction.hydro.geometry import (
+    axi_volume, bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area,
+)
 from shockfriction.hydro.matprops import (
-    EOS_IDEAL_GAS, STRENGTH_EPP, P_C0, P_CV, P_EOS, P_G0, P_G_CONST, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_PMIN, P_RHO0, P_S,
-    P_SCG, P_STRENGTH, P_T0, P_Y0, STRENGTH_NONE,
+    EOS_IDEAL_GAS, P_C0, P_CV, P_EOS, P_G0, P_G_CONST, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_PMIN, P_RHO0, P_S,
+    P_SCG, P_STRENGTH, P_T0, P_Y0, STRENGTH_EPP, STRENGTH_NONE,
 )
-from shockfriction.hydro.plasticity import (
-    radial_return_s, rotate_deviator, shear_modulus_and_ratio, shear_modulus_and_ratio_s, yield_stress,
-    yield_stress_s,
-)
+from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
 
 ERR_NONE = 0
@@ -46,9 +45,38 @@ ERR_MESSAGES = {ERR_INVERTED: "inverted or degenerate cell (non-positive volume 
 
 # --------------------------------------------------------------------------- forces
 
-def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, cmass, e, axi, hg, dt, corner):
-    """Corner forces of every cell into corner[c, 0:8] (fx0..fx3, fy0..fy3); the hourglass
-    power times dt goes into the cell's specific energy."""
+@njit(cache=True)
+def edge_viscosity(xa, ya, xb, yb, ua, va, ub, vb, xc, yc, rho, c, cq, cl, axi):
+    """Edge artificial viscosity on the cell edge a-b (after Caramana, Shashkov & Whalen 1998).
+
+    Active when the edge shortens ((v_b - v_a).(x_b - x_a) < 0):
+    q = rho (C_Q^2 |dv|^2 + C_L c |dv|), acting along dv on the median segment from the cell
+    centre (xc, yc) to the edge midpoint, of length L projected across dv (times its mean
+    radius in axisymmetry).  Returns (fx, fy) on node a (node b gets the opposite) and the
+    dissipated power q L |dv| >= 0."""
+    dx = xb - xa
+    dy = yb - ya
+    du = ub - ua
+    dw = vb - va
+    if du * dx + dw * dy >= 0.0:
+        return 0.0, 0.0, 0.0
+    dvn = math.sqrt(du * du + dw * dw)
+    ex = du / dvn
+    ey = dw / dvn
+    sx = 0.5 * (xa + xb) - xc
+    sy = 0.5 * (ya + yb) - yc
+    length = abs(sx * ey - sy * ex)
+    if axi:
+        length *= 0.5 * (0.5 * (xa + xb) + xc)
+    qz = rho * (cq * cq * dvn * dvn + cl * c * dvn)
+    f = qz * length
+    return f * ex, f * ey, f * dvn
+
+
+def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, hg, corner, vcorner,
+                        qedge, cq, cl):
+    """Corner forces of every cell into corner[c, 0:8] (fx0..fx3, fy0..fy3); the velocity-dependent
+    part (hourglass, edge viscosity) also into vcorner, for :func:`viscous_heat`."""
     for c in prange(conn.shape[0]):
         n0 = conn[c, 0]
         n1 = conn[c, 1]
@@ -81,6 +109,9 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, cmass,
         g1 = -(a_xy * bx1 + a_yy * by1)
         g2 = -(a_xy * bx2 + a_yy * by2)
         g3 = -(a_xy * bx3 + a_yy * by3)
+        # velocity-dependent (viscous) corner forces
+        vf0 = vf1 = vf2 = vf3 = 0.0
+        vg0 = vg1 = vg2 = vg3 = 0.0
         if hg > 0.0 and area > 0.0:
             # Flanagan-Belytschko viscous hourglass: gamma = Gamma - (Gamma.x) b_x/A - (Gamma.y) b_y/A
             gx = x0 - x1 + x2 - x3
@@ -94,15 +125,63 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, cmass,
             hv = gam0 * vy[n0] + gam1 * vy[n1] + gam2 * vy[n2] + gam3 * vy[n3]
             w = 0.25 * (x0 + x1 + x2 + x3) if axi else 1.0
             coef = 0.25 * hg * rho[c] * cs[c] * math.sqrt(area) * w
-            f0 -= coef * gam0 * hu
-            f1 -= coef * gam1 * hu
-            f2 -= coef * gam2 * hu
-            f3 -= coef * gam3 * hu
-            g0 -= coef * gam0 * hv
-            g1 -= coef * gam1 * hv
-            g2 -= coef * gam2 * hv
-            g3 -= coef * gam3 * hv
-            e[c] += dt * coef * (hu * hu + hv * hv) / cmass[c]
+            vf0 -= coef * gam0 * hu
+            vf1 -= coef * gam1 * hu
+            vf2 -= coef * gam2 * hu
+            vf3 -= coef * gam3 * hu
+            vg0 -= coef * gam0 * hv
+            vg1 -= coef * gam1 * hv
+            vg2 -= coef * gam2 * hv
+            vg3 -= coef * gam3 * hv
+        if qedge:
+            xc = 0.25 * (x0 + x1 + x2 + x3)
+            yc = 0.25 * (y0 + y1 + y2 + y3)
+            u0 = vx[n0]
+            u1 = vx[n1]
+            u2 = vx[n2]
+            u3 = vx[n3]
+            w0 = vy[n0]
+            w1 = vy[n1]
+            w2 = vy[n2]
+            w3 = vy[n3]
+            rc = rho[c]
+            cc = cs[c]
+            ex, ey, _ = edge_viscosity(x0, y0, x1, y1, u0, w0, u1, w1, xc, yc, rc, cc, cq, cl, axi)
+            vf0 += ex
+            vg0 += ey
+            vf1 -= ex
+            vg1 -= ey
+            ex, ey, _ = edge_viscosity(x1, y1, x2, y2, u1, w1, u2, w2, xc, yc, rc, cc, cq, cl, axi)
+            vf1 += ex
+            vg1 += ey
+            vf2 -= ex
+            vg2 -= ey
+            ex, ey, _ = edge_viscosity(x2, y2, x3, y3, u2, w2, u3, w3, xc, yc, rc, cc, cq, cl, axi)
+            vf2 += ex
+            vg2 += ey
+            vf3 -= ex
+            vg3 -= ey
+            ex, ey, _ = edge_viscosity(x3, y3, x0, y0, u3, w3, u0, w0, xc, yc, rc, cc, cq, cl, axi)
+            vf3 += ex
+            vg3 += ey
+            vf0 -= ex
+            vg0 -= ey
+        vcorner[c, 0] = vf0
+        vcorner[c, 1] = vf1
+        vcorner[c, 2] = vf2
+        vcorner[c, 3] = vf3
+        vcorner[c, 4] = vg0
+        vcorner[c, 5] = vg1
+        vcorner[c, 6] = vg2
+        vcorner[c, 7] = vg3
+        f0 += vf0
+        f1 += vf1
+        f2 += vf2
+        f3 += vf3
+        g0 += vg0
+        g1 += vg1
+        g2 += vg2
+        g3 += vg3
         corner[c, 0] = f0
         corner[c, 1] = f1
         corner[c, 2] = f2
@@ -115,6 +194,25 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, cmass,
 
 corner_forces_serial = njit(cache=True)(_corner_forces_impl)
 corner_forces_parallel = njit(cache=True, parallel=True)(_corner_forces_impl)
+
+
+def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
+    """Put the work of the viscous corner forces over the velocity step, -dt f . (v^{n-1/2} +
+    v^{n+1/2})/2, into each cell's energy (exactly the kinetic energy they removed); return the sum."""
+    total = 0.0
+    for c in prange(conn.shape[0]):
+        w = 0.0
+        for k in range(4):
+            n = conn[c, k]
+            w += vcorner[c, k] * (vx0[n] + vx1[n]) + vcorner[c, 4 + k] * (vy0[n] + vy1[n])
+        heat = -0.5 * dt * w
+        e[c] += heat / cmass[c]
+        total += heat
+    return total
+
+
+viscous_heat_serial = njit(cache=True)(_viscous_heat_impl)
+viscous_heat_parallel = njit(cache=True, parallel=True)(_viscous_heat_impl)
 
 
 @njit(cache=True)
@@ -164,6 +262,19 @@ def apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, d
             vx[n] += dvx
             vy[n] += dvy
     return work
+
+
+@njit(cache=True)
+def impulse_work(mass_own, vx_old, vy_old, jx, jy, jx_prev, jy_prev):
+    """Kinetic-energy change that velocity jumps J (constraints, interfaces) make in the leapfrog
+    kinetic energy K^n = sum m v^{n-1/2}.v^{n+1/2}/2 at t^n: sum m v^{n-1/2}.(J^n + J^{n-1})/2.
+    Copies J into J_prev for the next step."""
+    w = 0.0
+    for n in range(vx_old.shape[0]):
+        w += mass_own[n] * (vx_old[n] * (jx[n] + jx_prev[n]) + vy_old[n] * (jy[n] + jy_prev[n]))
+        jx_prev[n] = jx[n]
+        jy_prev[n] = jy[n]
+    return 0.5 * w
 
 
 @njit(cache=True)
@@ -255,8 +366,10 @@ def internal_energy(e, e_el, cmass):
 # --------------------------------------------------------------------------- cells
 
 def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
-                       sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell):
-    """Advance every cell from t^n to t^{n+1}: dtcell[c] = its stable step, errcell[c] = error code."""
+                       sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
+                       qedge):
+    """Advance every cell from t^n to t^{n+1}: dtcell[c] = its stable step, errcell[c] = error code.
+    With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here)."""
     ntab = table.shape[1]
     for c in prange(conn.shape[0]):
         errcell[c] = ERR_NONE
@@ -380,7 +493,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
             e_el[c] = eel
         # ---- artificial viscosity q^{n+1/2} (compression only), length along the compression
         qn = 0.0
-        if trd < 0.0:
+        if trd < 0.0 and not qedge:
             cm = 0.5 * (dxx + dyy)
             rr = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
             lq = math.sqrt(area1)

@@ -107,9 +107,13 @@ def radial_return_s(sxx, syy, sxy, eps_p, G, ratio, kind, y_epp, y0, beta, n, ym
     if seq <= y:
         return sxx, syy, sxy, 0.0, y, y / ratio
     # f(d) = seq - 3 G d - ratio*h(eps+d), decreasing; root in [0, (seq - y)/(3G)]
-    lo = 0.0
     hi = (seq - y) / (3.0 * G)
-    d = hi
+    # start from the root of the linearised equation: the hardening is concave, so f(d0) >= 0
+    # and d0 is a lower bound from which Newton converges monotonically
+    base = 1.0 + beta * eps_p
+    slope = y * n * beta / base if y < ratio * ymax else 0.0
+    d = (seq - y) / (3.0 * G + slope)
+    lo = d
     for _ in range(NEWTON_MAXIT):
         h, dh = hardening(eps_p + d, y0, beta, n, ymax)
         f = seq - 3.0 * G * d - ratio * h

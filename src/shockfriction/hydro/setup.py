@@ -276,6 +276,9 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
                 if kind.vy is not None:
                     rows[1] += [(n, 0.0, 1.0, kind.vy) for n in nodes]
                     vy[nodes] = kind.vy
+    if axi:  # nodes on the axis r = 0 always have v_r = 0 (whatever the deck says of that side)
+        scale = max(np.abs(mesh.x).max(), np.abs(mesh.y).max(), 1e-300)
+        rows[0] += [(int(n), 1.0, 0.0, 0.0) for n in np.flatnonzero(np.abs(mesh.x) <= 1e-12 * scale)]
     member_of = {}
     for g in range(len(groups.ptr) - 1):
         members = groups.nodes[groups.ptr[g]:groups.ptr[g + 1]].tolist()

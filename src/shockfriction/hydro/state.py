@@ -31,8 +31,9 @@ class EnergyBudget:
     """Cumulative energy exchanges (J per unit depth, or per radian) since t = 0.
 
     The balance is kinetic + internal = initial + boundary_work + interface_work
-    + interface_heat.  ``interface_work`` is measured by the cycle (work of the
-    interface velocity corrections, <= 0 for friction and inelastic contact);
+    + interface_heat.  ``boundary_work`` and ``interface_work`` are measured by the
+    cycle (the kinetic energy that the constraints' and the interface corrections'
+    velocity jumps add; <= 0 for friction and inelastic contact);
     ``interface_heat`` is what interface objects put into cells' internal energy
     (they add it here themselves); friction work is added by interfaces to
     ``friction_work`` for reporting (it is part of ``interface_work``).

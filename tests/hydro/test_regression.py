@@ -1,0 +1,33 @@
+"""Pinned regression numbers of the example decks (after Laghos: any build must reproduce them).
+
+They are not verification (see the other tests for exact solutions): they catch any change of
+the discrete scheme.  Tolerance 1e-9 relative (1e-7 for the 4788-cycle plastic Taylor run:
+round-off across platforms); change the numbers only with a reason stated in the commit.
+"""
+
+from pathlib import Path
+
+import pytest
+
+from shockfriction.hydro.api import run
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_plate_impact_example_is_unchanged():
+    r = run(EXAMPLES / "plate_impact_al_250ms.toml")
+    assert r.summary["cycles"] == 391
+    assert r.energy["kinetic"][-1] == pytest.approx(31.949552547747267, rel=1e-9)
+    assert r.energy["internal"][-1] == pytest.approx(1.6297122584285058, rel=1e-9)
+    assert r.probes["fs.vy"][-1] == pytest.approx(250.00675487328476, rel=1e-9)
+    assert r.probes["mid.p"][200] == pytest.approx(1829458014.8485522, rel=1e-9)
+    assert r.state.y.sum() == pytest.approx(0.8987421375008751, rel=1e-12)
+
+
+def test_taylor_anvil_example_is_unchanged():
+    r = run(EXAMPLES / "taylor_anvil_cu.toml")
+    assert r.summary["cycles"] == 4788
+    assert r.probes["top.y"][-1] == pytest.approx(0.0169691212449064, rel=1e-7)
+    assert r.probes["foot.x"][-1] == pytest.approx(0.006530624155251565, rel=1e-7)
+    assert r.probes["core.eps_p"][-1] == pytest.approx(1.4943554271614727, rel=1e-7)
+    assert r.energy["total"][-1] == pytest.approx(185.27824993286475, rel=1e-7)
