@@ -19,7 +19,7 @@ from shockfriction.hydro.api import prepare, run_simulation
 DECKS = Path(__file__).resolve().parents[2] / "examples" / "verification"
 
 
-@pytest.mark.xfail(reason="HYDRO_BUGS.md item 4: diagonal cell inverts early in Cartesian Sedov",
+@pytest.mark.xfail(reason="HYDRO_BUGS.md item 4 (a limitation documented in docs/theory/30-hydro.md): the diagonal cell inverts early in Cartesian Sedov",
                    strict=False)
 def test_sedov_cartesian_quarter_plane():
     cells, deposit_radius = 50, 3.0
