@@ -26,8 +26,8 @@ def test_plate_impact_example_is_unchanged():
 
 def test_taylor_anvil_example_is_unchanged():
     r = run(EXAMPLES / "taylor_anvil_cu.toml")
-    assert r.summary["cycles"] == 4788
-    assert r.probes["top.y"][-1] == pytest.approx(0.0169691212449064, rel=1e-7)
-    assert r.probes["foot.x"][-1] == pytest.approx(0.006530624155251565, rel=1e-7)
-    assert r.probes["core.eps_p"][-1] == pytest.approx(1.4943554271614727, rel=1e-7)
-    assert r.energy["total"][-1] == pytest.approx(185.27824993286475, rel=1e-7)
+    assert r.summary["cycles"] == 4794
+    assert r.probes["top.y"][-1] == pytest.approx(0.016968661770002322, rel=1e-7)
+    assert r.probes["foot.x"][-1] == pytest.approx(0.006519944950118737, rel=1e-7)
+    assert r.probes["core.eps_p"][-1] == pytest.approx(1.4960459847190895, rel=1e-7)
+    assert r.energy["total"][-1] == pytest.approx(185.27812868099224, rel=1e-7)

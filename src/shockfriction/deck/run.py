@@ -161,7 +161,7 @@ class Viscosity(DeckModel):
 
     quadratic: float = Field(default=2.0, ge=0.0)
     linear: float = Field(default=0.15, ge=0.0)
-    hourglass: float = Field(default=0.05, ge=0.0)
+    hourglass: float = Field(default=0.1, ge=0.0)
 
 
 class Output(DeckModel):

@@ -2,7 +2,7 @@
 
 One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 
-1. nodal forces F^n from sigma^n at x^n (+ hourglass on v^{n-1/2});
+1. nodal forces F^n from sigma^n at x^n (+ hourglass and edge viscosity on v^{n-1/2});
 2. node groups (ties, periodic sides) share their summed force;
 3. free velocities v* = v^{n-1/2} + dt^n F/m, boundary constraints applied;
 4. **interface hook**: every registered interface object's
@@ -20,8 +20,8 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 6. cells: density, strain rate, stress, viscosity, energy, EOS, temperature and
    the next stable time step.
 
-Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and
-kinetic energy (K^{n-1/2} + K^{n+1/2})/2.
+Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
+leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/30-hydro.md, sec. 5).
 """
 
 from __future__ import annotations
@@ -112,8 +112,7 @@ class Simulation:
             dt0 = min(dt0, deck.time.dt_initial)
         s.dt = min(dt0, self.dt_max, self.t_end)
         self._dt_prev = 0.0  # leapfrog start: v^{-1/2} = v^0 and a half velocity step
-        self._ke_half = K.kinetic_energy(s.vx, s.vy, s.mass_own)
-        s.energy.initial = self._ke_half + K.internal_energy(s.e, s.e_el, s.cell_mass)
+        s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
         self.energy_rows: list[tuple] = []
         self.probe_rows: list[tuple] = []
         self.probe_columns = [f"{p.name}.{q}" for p in problem.probes for q in p.quantities]
@@ -125,9 +124,9 @@ class Simulation:
             self.register_interface(obj)
 
     def reinitialize(self) -> None:
-        """After editing the initial state by hand (``state.e``, ``rho``, ``vx``, ...) at t = 0:
-        recompute pressure, temperature, moduli, sound speed, volumes and masses-consistent
-        density, the first time step and the initial energy."""
+        """After editing the initial state by hand at t = 0 (``state.e``, ``vx``, ``vy``, the
+        deviators ...): recompute pressure, temperature, moduli, flow stress and sound speed from
+        (rho, e), the first time step and the initial energy."""
         s = self.state
         if s.cycle != 0:
             raise RuntimeError("reinitialize() is for the initial state (cycle 0)")

@@ -2,25 +2,31 @@
 
 * :func:`corner_forces_serial` / :func:`corner_forces_parallel` then
   :func:`scatter_forces` / :func:`gather_forces`: nodal forces F^n from the cell
-  stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the viscous
-  Flanagan-Belytschko hourglass force on v^{n-1/2} (its dissipated power is put
-  into the cell's internal energy).
-* :func:`advance_velocities`: v* = v^{n-1/2} + dt F/m on node groups (ties,
-  periodic sides), then the boundary constraints.
-* :func:`apply_constraints`: v <- v - (v.n - value) n per constraint; returns the
-  work of the reactions.
+  stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the velocity-dependent
+  forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge viscosity),
+  kept apart for :func:`viscous_heat_serial` / ``_parallel``, which puts the kinetic
+  energy they remove over the step into the cells.
+* :func:`sum_groups` / :func:`sync_groups`: node groups (ties, periodic sides).
+* :func:`advance_velocities`: v* = v^{n-1/2} + dt F/m.
+* :func:`apply_constraints`: v <- v - (v.n - value) n per constraint.
+* :func:`impulse_work`: the kinetic energy that velocity jumps (constraints,
+  interfaces) put into the leapfrog kinetic energy.
 * :func:`move_nodes`: x^{n+1} = x^n + dt v^{n+1/2}.
 * :func:`update_cells_serial` / :func:`update_cells_parallel`: per cell, volume and
   density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
   artificial viscosity q^{n+1/2}, energy update with the EOS, temperature,
-  sound speed and the cell's stable time step.
+  sound speed and the cell's stable time step; :func:`reduce_time_step`.
 
+The serial and parallel variants are the same Python function compiled twice
+(``prange`` is ``range`` without ``parallel=True``); per-cell helpers take and return
+scalars only (no array arguments: no reference counting in the inner loops).
 Every kernel takes plain arrays and floats; sign convention: compression positive.
 """
 
 from __future__ import annotations
 
 import math
+import types
 
 import numpy as np
 from numba import njit, prange
@@ -35,6 +41,19 @@ from shockfriction.hydro.matprops import (
 )
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
+
+def _twin(func, suffix: str):
+    """A copy of ``func`` under another name, so that numba's on-disk cache keeps its serial and
+    parallel compilations apart (the cache index is keyed by name and signature, not by the
+    ``parallel`` flag: without this the two variants overwrite each other's cache entry)."""
+    name = func.__name__ + suffix
+    code = func.__code__.replace(co_name=name, co_qualname=name)
+    twin = types.FunctionType(code, func.__globals__, name, func.__defaults__, func.__closure__)
+    twin.__qualname__ = name
+    twin.__module__ = func.__module__
+    twin.__doc__ = func.__doc__
+    return twin
+
 
 ERR_NONE = 0
 ERR_INVERTED = 1
@@ -193,7 +212,7 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, h
 
 
 corner_forces_serial = njit(cache=True)(_corner_forces_impl)
-corner_forces_parallel = njit(cache=True, parallel=True)(_corner_forces_impl)
+corner_forces_parallel = njit(cache=True, parallel=True)(_twin(_corner_forces_impl, "_parallel"))
 
 
 def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
@@ -212,7 +231,7 @@ def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
 
 
 viscous_heat_serial = njit(cache=True)(_viscous_heat_impl)
-viscous_heat_parallel = njit(cache=True, parallel=True)(_viscous_heat_impl)
+viscous_heat_parallel = njit(cache=True, parallel=True)(_twin(_viscous_heat_impl, "_parallel"))
 
 
 @njit(cache=True)
@@ -588,7 +607,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
 
 
 update_cells_serial = njit(cache=True)(_update_cells_impl)
-update_cells_parallel = njit(cache=True, parallel=True)(_update_cells_impl)
+update_cells_parallel = njit(cache=True, parallel=True)(_twin(_update_cells_impl, "_parallel"))
 
 
 @njit(cache=True)

@@ -231,7 +231,7 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     # ---- node groups: periodic sides and ties
     pairs: list[tuple[int, int]] = []
     for k, body in enumerate(deck.bodies):
-        bnd, blk = body.boundary, blocks[k]
+        bnd = body.boundary
         if bnd.left == "periodic":
             left = mesh.side_nodes(k, "left")[::-1]
             right = mesh.side_nodes(k, "right")
@@ -246,7 +246,6 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
             if np.abs(shift - shift[0]).max() > 1e-9 * np.hypot(*shift[0]):
                 raise DeckError(f"{source}: body {body.name!r}: periodic bottom/top sides must be translates")
             pairs += list(zip(bottom.tolist(), top.tolist()))
-        del blk
     for tie in deck.ties:
         pairs += _match_tie(mesh, tie.sides[0], tie.sides[1], source)
     groups = _union_find_groups(mesh.n_nodes, pairs)

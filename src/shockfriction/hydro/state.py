@@ -11,9 +11,13 @@ Cells (index c): ``conn[c]`` four global node indices (counter-clockwise);
 ``cell_mass``, ``volume``, ``rho``, ``e`` (specific internal energy e_M used by
 the EOS), ``e_el`` (stored elastic shear energy per mass), ``pressure`` (EOS,
 compression positive), ``q`` (artificial viscosity), deviator ``sxx, syy, sxy``
-(szz = -(sxx+syy) is the out-of-plane / hoop component), ``eps_p``,
-``temperature``, ``shear_modulus``, ``yield_stress``, ``sound_speed``
-(longitudinal), ``mat`` (row of ``props``; one row per body).
+(szz = -(sxx+syy) is the out-of-plane / hoop component), ``eps_p`` (equivalent
+plastic strain), ``temperature``, ``shear_modulus`` (G(P, T) of SCG, G0 for
+elastic-perfectly-plastic, 0 without strength or molten), ``yield_stress`` (the
+flow stress Y(eps_p, P, T) of the current state, the thesis's Y^n for the friction
+laws), ``sound_speed`` (longitudinal), ``mat`` (row of ``props``; one row per body).
+All cell values are at t^n; after an interface adds heat to ``e`` the temperature
+follows at the next cell update.
 
 Time: ``t`` (t^n), ``cycle`` (n), ``dt`` (the position step dt^{n+1/2}) and
 ``dt_velocity`` (the velocity step dt^n = (dt^{n-1/2} + dt^{n+1/2})/2).
