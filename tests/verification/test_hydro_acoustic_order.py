@@ -61,8 +61,6 @@ def test_acoustic_wave_second_order_fine():
     assert order > 1.9
 
 
-@pytest.mark.xfail(reason="HYDRO_BUGS.md item 3: ideal-gas sound speed squared is (gamma-1) p/rho, "
-                          "not gamma p/rho", strict=False)
 def test_ideal_gas_sound_speed_is_gamma_p_over_rho():
     sim = _prepared(50)
     assert np.allclose(sim.state.sound_speed, C, rtol=1e-12)
