@@ -74,7 +74,9 @@ def to_si(value: str | float | int, kind: str) -> float:
     return float(q.to(si_unit).magnitude) if si_unit else float(q.to("").magnitude)
 
 
-def _validator(kind: str):
+def quantity(kind: str) -> BeforeValidator:
+    """Pydantic validator turning a unit string of ``kind`` (a key of DIMENSIONS) into SI."""
+
     def check(value):
         try:
             return to_si(value, kind)
@@ -84,15 +86,17 @@ def _validator(kind: str):
     return BeforeValidator(check)
 
 
-Length = Annotated[float, _validator("length")]
-Time = Annotated[float, _validator("time")]
-Velocity = Annotated[float, _validator("velocity")]
-Pressure = Annotated[float, _validator("pressure")]
-Temperature = Annotated[float, _validator("temperature")]
-Density = Annotated[float, _validator("density")]
-HeatFlux = Annotated[float, _validator("heat_flux")]
-Slowness = Annotated[float, _validator("slowness")]
-Dimensionless = Annotated[float, _validator("dimensionless")]
+Length = Annotated[float, quantity("length")]
+Time = Annotated[float, quantity("time")]
+Velocity = Annotated[float, quantity("velocity")]
+Pressure = Annotated[float, quantity("pressure")]
+Temperature = Annotated[float, quantity("temperature")]
+Density = Annotated[float, quantity("density")]
+HeatFlux = Annotated[float, quantity("heat_flux")]
+Slowness = Annotated[float, quantity("slowness")]
+Dimensionless = Annotated[float, quantity("dimensionless")]
+SpecificEnergy = Annotated[float, quantity("specific_energy")]
+SpecificHeat = Annotated[float, quantity("specific_heat")]
 
 PositiveLength = Annotated[Length, Field(gt=0.0)]
 PositiveTime = Annotated[Time, Field(gt=0.0)]

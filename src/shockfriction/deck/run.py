@@ -11,27 +11,17 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Optional, Union
 
-from pydantic import BeforeValidator, Field, model_validator
+from pydantic import Field, model_validator
 
 from shockfriction.contact.deck import SlideLineDeck
 from shockfriction.deck.base import DeckModel
 from shockfriction.units import (
-    Dimensionless, Length, Pressure, PositiveTime, Temperature, UnitError, Velocity, to_si,
+    Density, Dimensionless, Length, Pressure, PositiveTime, SpecificEnergy, SpecificHeat, Temperature, Velocity,
 )
 
 
-def _kind(kind: str):
-    def check(value):
-        try:
-            return to_si(value, kind)
-        except UnitError as exc:
-            raise ValueError(str(exc)) from None
-    return BeforeValidator(check)
-
-
-SpecificEnergy = Annotated[float, _kind("specific_energy")]
-SpecificHeat = Annotated[float, Field(gt=0.0), _kind("specific_heat")]
-PositiveDensity = Annotated[float, Field(gt=0.0), _kind("density")]
+PositiveSpecificHeat = Annotated[SpecificHeat, Field(gt=0.0)]
+PositiveDensity = Annotated[Density, Field(gt=0.0)]
 PositivePressure = Annotated[Pressure, Field(gt=0.0)]
 
 SIDE_NAMES = ("bottom", "right", "top", "left")
@@ -114,7 +104,7 @@ class Body(DeckModel):
     density: Optional[PositiveDensity] = None
     pressure: Optional[Pressure] = None
     specific_energy: Optional[SpecificEnergy] = None
-    heat_capacity: Optional[SpecificHeat] = None
+    heat_capacity: Optional[PositiveSpecificHeat] = None
     pressure_floor: Optional[Pressure] = None
     velocity: tuple[Velocity, Velocity] = (0.0, 0.0)
     radial_velocity: Optional[Velocity] = None
