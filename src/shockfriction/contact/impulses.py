@@ -142,6 +142,24 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
 
 
 @njit(cache=True)
+def capped_update(vx, vy, mass, j, i_g, gnode, gw, tx, ty, lam_t, cap, s, inv_pair):
+    """One projected Gauss-Seidel update of pair j: move its tangential impulse toward the value
+    that cancels the slip s, clipped to [-cap, cap], and apply the change (equal and opposite on
+    the slave node and the guide).  Returns the change of the relative velocity."""
+    new = lam_t[j] - s / inv_pair
+    if new > cap:
+        new = cap
+    elif new < -cap:
+        new = -cap
+    dp = new - lam_t[j]
+    if dp == 0.0:
+        return 0.0
+    lam_t[j] = new
+    _apply(vx, vy, mass, j, i_g, gnode, gw, tx, ty, dp)
+    return abs(dp * inv_pair)
+
+
+@njit(cache=True)
 def tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, dt, area,
                     law, law_params, y_slave, y_guide, lam_n, max_sweeps, rel_tol,
                     lam_t, slip_free, slip, slip_law=None):
@@ -202,17 +220,7 @@ def tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, dt, area,
                     th = theta
                 cap[j] = corrected_traction(law, law_params, sigma[j], w, s_own,
                                             area[j] * dt * inv_pair, th, y_slave[j], y_guide[j]) * area[j] * dt
-            new = lam_t[j] - s / inv_pair
-            if new > cap[j]:
-                new = cap[j]
-            elif new < -cap[j]:
-                new = -cap[j]
-            dp = new - lam_t[j]
-            if dp == 0.0:
-                continue
-            lam_t[j] = new
-            _apply(vx, vy, mass, j, i_g, gnode, gw, tx[j], ty[j], dp)
-            dv = abs(dp * inv_pair)
+            dv = capped_update(vx, vy, mass, j, i_g, gnode, gw, tx[j], ty[j], lam_t, cap[j], s, inv_pair)
             if dv > change:
                 change = dv
         if sweep == 0:

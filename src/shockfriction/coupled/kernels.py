@@ -12,7 +12,7 @@ import math
 
 from numba import njit
 
-from shockfriction.contact.impulses import _apply, _inverse_pair_mass, _relative_velocity
+from shockfriction.contact.impulses import _inverse_pair_mass, _relative_velocity, capped_update
 
 
 @njit(cache=True)
@@ -93,17 +93,7 @@ def capped_tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, cap, 
             i_g = slave[j]
             inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
             s = _relative_velocity(vx, vy, j, i_g, gnode, gw, tx[j], ty[j])
-            new = lam_t[j] - s / inv_pair
-            if new > cap[j]:
-                new = cap[j]
-            elif new < -cap[j]:
-                new = -cap[j]
-            dp = new - lam_t[j]
-            if dp == 0.0:
-                continue
-            lam_t[j] = new
-            _apply(vx, vy, mass, j, i_g, gnode, gw, tx[j], ty[j], dp)
-            dv = abs(dp * inv_pair)
+            dv = capped_update(vx, vy, mass, j, i_g, gnode, gw, tx[j], ty[j], lam_t, cap[j], s, inv_pair)
             if dv > change:
                 change = dv
         if sweep == 0:
