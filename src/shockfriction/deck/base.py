@@ -48,6 +48,8 @@ def format_validation_error(err: ValidationError, source: str = "deck", raw: dic
         expected = _EXPECT.get(e["type"]) or e["msg"].removeprefix("Value error, ")
         if e["type"] == "missing":
             lines.append(f"{source}: {path} is missing: expected {expected}")
+        elif e["type"] == "value_error" and "expected" in expected:
+            lines.append(f"{source}: {path} = {given!r}: {expected}")  # the message states the expectation
         else:
             lines.append(f"{source}: {path} = {given!r}: expected {expected}")
     return "\n".join(lines)
