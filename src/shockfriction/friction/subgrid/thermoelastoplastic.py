@@ -246,28 +246,30 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
                 and math.isfinite(v_prev[j]) and math.isfinite(k[j]) and tau_cap[j] >= 0.0):
             status[j] = BAD_INPUT
             continue
-        q_max = math.inf
-        melted = False
         ad_run = -math.inf
         hard_run = math.inf
         for i in range(nn - 1, -1, -1):
-            ri = row[i]
-            if ri > ad_run:
-                ad_run = ri
+            if row[i] > ad_run:
+                ad_run = row[i]
             ad_sfx[i] = ad_run
             if hrow[i] < hard_run:
                 hard_run = hrow[i]
             hard_sfx[i] = hard_run
-            if ri >= T_F:
-                melted = True
-            if theta_unit[i] > 0.0:
-                qi = (T_F - ri) / theta_unit[i]
-                if qi < q_max:
-                    q_max = qi
-        if melted:
+        if ad_run >= T_F:
             status[j] = ABOVE_MELT
             continue
         ad_max = ad_run
+        # q_max = min_i (T_F - theta_ad_i)/theta_unit_i; every 8 nodes, stop once the rest cannot go
+        # lower: (T_F - ad_sfx[i])/unit_sfx[i] bounds all later quotients from below (rounding is monotone)
+        q_max = math.inf
+        for i in range(nn):
+            if i % 8 == 0 and i > 0:
+                if unit_sfx[i] <= 0.0 or (T_F - ad_sfx[i]) / unit_sfx[i] >= q_max:
+                    break
+            if theta_unit[i] > 0.0:
+                qi = (T_F - row[i]) / theta_unit[i]
+                if qi < q_max:
+                    q_max = qi
         # theta >= t_ad in the bracket and tau(theta) falls with theta: tau <= its value at t_ad
         tau_max = friction_stress(F_N[j], t_ad, tau_cap[j], f, p)
         q_hi = q_max * (1.0 + 1e-12)
