@@ -281,9 +281,12 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
         depth[j] = m
         hi = t_ad + a0 * q_max
         lo = t_ad
-        r_lo, _, _, _, _ = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
-                                     F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow, m, q_hi)
+        # the last evaluation (point, results; its d_eps are in drow): reused when it is the accepted point
+        r_lo, t, vh, vl, rate = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
+                                          F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
+                                          m, q_hi)
         x = lo
+        x_last = lo
         if r_lo < 0.0:
             r_hi = hi - t_ad  # at the upper end tau [v] = 0
             brent_start(lo, r_lo, hi, r_hi, xtol, st)
@@ -293,16 +296,19 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
                 if done:
                     converged = True
                     break
-                r, _, _, _, _ = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
-                                          F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
-                                          m, q_hi)
+                r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
+                                               F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt,
+                                               drow, m, q_hi)
+                x_last = x
                 brent_feed(st, r)
                 iters[j] = it + 1
             if not converged:
                 status[j] = NO_CONVERGENCE
             x = st[B] if st[FB] >= 0.0 else st[C]
-        r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
-                                       F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow, m, q_hi)
+        if x != x_last:  # _evaluate is deterministic: the same point gives the same state
+            r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
+                                           F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
+                                           m, q_hi)
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
             status[j] = ABOVE_MELT
         theta_s[j] = x
