@@ -4,7 +4,8 @@ The root iterations visit only the nodes above a bound on the plastic front (pla
 suffix maxima of the trial temperatures and suffix minima of the hardening, with the SCG
 modulus decreasing in T).  Reference: the same solver visiting every node.  The results must be
 bit-identical, also with a deep front (first step of a uniform column: every node yields) and a
-non-monotone profile (a buried hot layer, where temperature does not fall with depth).
+non-monotone profile (a buried hot layer, where temperature does not fall with depth), and with
+nodes out of contact or without slip (no friction: nothing visited).
 """
 
 import numpy as np
@@ -32,6 +33,8 @@ def pair(buried_layer):
 def drive(sgs, steps):
     sig = np.linspace(1e9, 12e9, NCOL)
     v = np.linspace(20.0, 400.0, NCOL)
+    sig[[0, 3]] = 0.0, -1e8  # out of contact and in tension: no friction
+    v[5] = 0.0  # no slip: no friction
     depths, fronts = [], []
     for n in range(steps):
         dt = 1e-9 * (1.0 + 0.5 * (n % 3))  # changing steps refactor the columns
@@ -44,6 +47,7 @@ def drive(sgs, steps):
             np.testing.assert_array_equal(getattr(fast, name), getattr(full, name), err_msg=f"{name}, step {n}")
         np.testing.assert_array_equal(fast._deps, full._deps)
         assert np.all(full._depth == CELLS + 1)
+        assert np.all(fast._depth[[0, 3, 5]] == 0) and np.all(fast.eps_p[[0, 3, 5]] == 0.0)
         yielded = [np.nonzero(row > 0.0)[0] for row in fast._deps]
         deepest = np.array([r[-1] + 1 if r.size else 0 for r in yielded])
         assert np.all(deepest <= fast._depth)  # the bound holds

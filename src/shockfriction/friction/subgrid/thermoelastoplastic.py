@@ -246,34 +246,46 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
                 and math.isfinite(v_prev[j]) and math.isfinite(k[j]) and tau_cap[j] >= 0.0):
             status[j] = BAD_INPUT
             continue
-        ad_run = -math.inf
-        hard_run = math.inf
-        for i in range(nn - 1, -1, -1):
-            if row[i] > ad_run:
-                ad_run = row[i]
-            ad_sfx[i] = ad_run
-            if hrow[i] < hard_run:
-                hard_run = hrow[i]
-            hard_sfx[i] = hard_run
-        if ad_run >= T_F:
-            status[j] = ABOVE_MELT
-            continue
-        ad_max = ad_run
-        # q_max = min_i (T_F - theta_ad_i)/theta_unit_i; every 8 nodes, stop once the rest cannot go
-        # lower: (T_F - ad_sfx[i])/unit_sfx[i] bounds all later quotients from below (rounding is monotone)
-        q_max = math.inf
-        for i in range(nn):
-            if i % 8 == 0 and i > 0:
-                if unit_sfx[i] <= 0.0 or (T_F - ad_sfx[i]) / unit_sfx[i] >= q_max:
-                    break
-            if theta_unit[i] > 0.0:
-                qi = (T_F - row[i]) / theta_unit[i]
-                if qi < q_max:
-                    q_max = qi
         # theta >= t_ad in the bracket and tau(theta) falls with theta: tau <= its value at t_ad
         tau_max = friction_stress(F_N[j], t_ad, tau_cap[j], f, p)
-        q_hi = q_max * (1.0 + 1e-12)
-        m = plastic_depth(tau_max, F_N[j], q_hi, ad_sfx, unit_sfx, hard_sfx, p) if use_front else nn
+        if use_front and tau_max <= 0.0:  # no friction at any trial temperature: nothing flows, R(lo) = 0
+            ad_max = -math.inf
+            for i in range(nn):
+                if row[i] > ad_max:
+                    ad_max = row[i]
+            if ad_max >= T_F:
+                status[j] = ABOVE_MELT
+                continue
+            q_max = math.inf  # not needed: the root is theta_ad(0)
+            q_hi = 0.0
+            m = 0
+        else:
+            ad_run = -math.inf
+            hard_run = math.inf
+            for i in range(nn - 1, -1, -1):
+                if row[i] > ad_run:
+                    ad_run = row[i]
+                ad_sfx[i] = ad_run
+                if hrow[i] < hard_run:
+                    hard_run = hrow[i]
+                hard_sfx[i] = hard_run
+            if ad_run >= T_F:
+                status[j] = ABOVE_MELT
+                continue
+            ad_max = ad_run
+            # q_max = min_i (T_F - theta_ad_i)/theta_unit_i; every 8 nodes, stop once the rest cannot go lower:
+            # (T_F - ad_sfx[i])/unit_sfx[i] bounds all later quotients from below (rounding is monotone)
+            q_max = math.inf
+            for i in range(nn):
+                if i % 8 == 0 and i > 0:
+                    if unit_sfx[i] <= 0.0 or (T_F - ad_sfx[i]) / unit_sfx[i] >= q_max:
+                        break
+                if theta_unit[i] > 0.0:
+                    qi = (T_F - row[i]) / theta_unit[i]
+                    if qi < q_max:
+                        q_max = qi
+            q_hi = q_max * (1.0 + 1e-12)
+            m = plastic_depth(tau_max, F_N[j], q_hi, ad_sfx, unit_sfx, hard_sfx, p) if use_front else nn
         drow = deps[j]
         old = depth[j] if 0 <= depth[j] <= nn else nn
         for i in range(m, old):
