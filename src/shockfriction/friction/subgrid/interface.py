@@ -72,7 +72,8 @@ from shockfriction.errors import SimulationError
 from shockfriction.friction.subgrid.column import ThermalColumns, affine_update
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
                                                            solve_thermoelastic)
-from shockfriction.friction.subgrid.thermoelastoplastic import solve_thermoelastoplastic, update_hardening
+from shockfriction.friction.subgrid.thermoelastoplastic import (finish_plastic_step, row_integrals,
+                                                                 solve_thermoelastoplastic)
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic")
@@ -119,6 +120,10 @@ class SubgridInterface:
         self._new = np.empty((n, nn))
         self._pending_plastic_heat = np.zeros((n, nn))  # J/m^3, deposited next step (lagged source)
         self._deps = np.zeros((n, nn))
+        self._depth = np.full(n, nn, dtype=np.int64)  # plastic-front bound: _deps[j, _depth[j]:] == 0
+        self._pending_depth = np.full(n, nn, dtype=np.int64)  # _pending_plastic_heat[j, _pending_depth[j]:] == 0
+        self._deposited = np.zeros(n)
+        self._use_front = True  # skip the nodes proven elastic (False: visit all, for the tests)
         for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
                      "friction_work", "heat_interface", "heat_plastic", "plastic_work", "lag_temperature"):
             setattr(self, name, np.zeros(n))
@@ -183,7 +188,10 @@ class SubgridInterface:
         F_N = np.where(in_contact, sig, 0.0)
 
         plastic = self.model == "thermoelastoplastic"
-        deposited = self._pending_plastic_heat @ self.columns.weights if plastic else None
+        deposited = None
+        if plastic:  # J/m^2 of lagged plastic heat put in this step (may have been clipped since)
+            deposited = self._deposited
+            row_integrals(self._pending_plastic_heat, self.columns.weights, self._pending_depth, deposited)
         theta_ad = self.columns.adiabatic(dt, deposit=self._pending_plastic_heat if plastic else None)
         unit = self.columns.theta_unit
         tau = self.tau
@@ -199,7 +207,7 @@ class SubgridInterface:
                                       np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T,
                                       self.f, self.scg, dt, self.xtol, self.max_iter, self._theta_s, tau,
                                       self._v_half, self.slip_local, self.slip_plastic, q_in, self._deps,
-                                      self.iterations, self._status)
+                                      self.iterations, self._status, self._depth, self._use_front)
         self._check(when)
         new = self._new
         T_F = self.material.melting_temperature
@@ -220,10 +228,9 @@ class SubgridInterface:
         self.heat_interface += q_in * dt
         if plastic:
             self.heat_plastic += deposited
-            update_hardening(self.eps_p, self._deps, self._hard, self.scg)
-            self.plastic_work += SQRT3 * tau * (self._deps @ self.columns.weights)
-            np.multiply(self._deps, (self.beta_Q * SQRT3) * tau[:, None], out=self._pending_plastic_heat)
-            self.lag_temperature[:] = self._pending_plastic_heat.max(axis=1) / self.columns.rho_c
+            finish_plastic_step(self.eps_p, self._deps, self._hard, self.scg, self._depth, tau, self.beta_Q * SQRT3,
+                                self.columns.weights, self._pending_plastic_heat, self._pending_depth,
+                                self.plastic_work, self.lag_temperature, self.columns.rho_c)
         return tau.copy(), v_half
 
     # ------------------------------------------------------------------ helpers

@@ -46,7 +46,8 @@ from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, 
 
 
 @njit(cache=True)
-def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out):
+def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out,
+                       depth=-1, q_hi=math.inf):
     """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit;
     return the trapezoid integral sum_i w_i d_eps_i, or -1 if some node has no strength left (G = 0).
 
@@ -54,12 +55,17 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min,
     E_min the melt factor at an upper bound of the trial temperatures (ad_max + q unit_max, or the
     exact maximum near melting).
+
+    ``depth`` (>= 0) is a plastic-front bound from :func:`plastic_depth`: for 0 <= q <= ``q_hi``
+    the nodes from ``depth`` on are proven elastic, so only ``out[:depth]`` is written (the
+    caller keeps the rest zero).  Outside that range, or with ``depth < 0``, every node is visited.
     """
     Y0, beta, n = p[I_Y0], p[I_BETA], p[I_N]
     g, h, xi, T_F = p[I_G], p[I_H], p[I_XI], p[I_TF]
     nn = theta_ad.shape[0]
+    m = depth if (depth >= 0 and 0.0 <= q <= q_hi) else nn
     if tau <= 0.0:
-        for i in range(nn):
+        for i in range(m):
             out[i] = 0.0
         return 0.0
     th_max = ad_max + q * unit_max
@@ -75,7 +81,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     s = SQRT3 * tau / Y0
     lin0 = 1.0 + g * F_N + h * 300.0
     integral = 0.0
-    for i in range(nn):
+    for i in range(m):
         out[i] = 0.0
         th = theta_ad[i] + q * theta_unit[i]
         if (lin0 - h * th) * e_min * hard[i] >= s:
@@ -93,32 +99,103 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     return integral
 
 
+# relative safety margin of the plastic-front bound (far above round-off in the strength bound)
+FRONT_MARGIN = 1e-9
+
+
 @njit(cache=True)
-def update_hardening(eps, deps, hard, p):
-    """eps += deps and hard = (1 + beta eps)^n where the strain grew (all columns)."""
+def plastic_depth(tau_max, F_N, q_hi, ad_suffix_max, unit_suffix_max, hard_suffix_min, p):
+    """Smallest m such that every node i >= m stays elastic for any tau <= ``tau_max`` and q in [0, q_hi].
+
+    For i >= m: theta_i <= C_m = ad_suffix_max[m] + q_hi unit_suffix_max[m] and hard_i >= H_m, and
+    G/G0 (1 + g F_N - h (T - 300)) exp(-xi T/(T_F - T)) decreases with T (h, xi >= 0), so
+    G_i/G0 hard_i >= G(C_m)/G0 H_m.  If that exceeds sqrt(3) tau_max/Y0 (with a margin) no node
+    beyond m flows (eq. 8.42 gives d_eps = 0).  The bound is monotone in m (C_m falls, H_m rises),
+    so m is found by bisection.  Returns n_nodes when no bound applies.
+    """
+    nn = ad_suffix_max.shape[0]
+    Y0, g, h, xi, T_F = p[I_Y0], p[I_G], p[I_H], p[I_XI], p[I_TF]
+    if not (h >= 0.0 and xi >= 0.0 and math.isfinite(q_hi) and q_hi >= 0.0 and tau_max >= 0.0):
+        return nn
+    s = SQRT3 * tau_max / Y0 * (1.0 + FRONT_MARGIN)
+    lo, hi = 0, nn  # the answer lies in [lo, hi]; m = nn always holds
+    while lo < hi:
+        mid = (lo + hi) // 2
+        c = ad_suffix_max[mid] + q_hi * unit_suffix_max[mid]
+        ok = False
+        if c < T_F:
+            r = (1.0 + g * F_N - h * (c - 300.0)) * math.exp(-xi * c / (T_F - c))
+            ok = r > 0.0 and r * hard_suffix_min[mid] > s
+        if ok:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+@njit(cache=True)
+def finish_plastic_step(eps, deps, hard, p, depth, tau, heat_factor, weights, pending, pending_depth, plastic_work,
+                        lag, rho_c):
+    """After the accepted solve, one pass over the yielded layer of every column (nodes below depth[j]):
+    eps += deps, hard = (1 + beta eps)^n; plastic work += sqrt(3) tau
+    sum_i w_i d_eps_i; pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3),
+    deposited next step, eq. 8.46), zero below; lag = max pending/(rho c).  ``pending_depth[j]``
+    (in/out) bounds the nonzero pending heat of each row (n_nodes is always safe).
+    """
     beta, n = p[I_BETA], p[I_N]
+    nn = eps.shape[1]
     for j in range(eps.shape[0]):
-        for i in range(eps.shape[1]):
-            if deps[j, i] > 0.0:
-                eps[j, i] += deps[j, i]
-                hard[j, i] = (1.0 + beta * eps[j, i]) ** n
+        m = depth[j] if 0 <= depth[j] <= nn else nn
+        old = pending_depth[j] if 0 <= pending_depth[j] <= nn else nn
+        c = heat_factor * tau[j]
+        work = 0.0
+        top = 0.0
+        for i in range(m):
+            d = deps[j, i]
+            if d > 0.0:
+                e = eps[j, i] + d
+                eps[j, i] = e
+                hard[j, i] = (1.0 + beta * e) ** n
+            work += weights[i] * d
+            h = c * d
+            pending[j, i] = h
+            if h > top:
+                top = h
+        for i in range(m, old):
+            pending[j, i] = 0.0
+        pending_depth[j] = m
+        plastic_work[j] += SQRT3 * tau[j] * work
+        lag[j] = top / rho_c
+
+
+@njit(cache=True)
+def row_integrals(values, weights, depth, out):
+    """out[j] = sum_{i < depth[j]} w_i values[j, i] (rows zero from depth[j] on)."""
+    nn = values.shape[1]
+    for j in range(values.shape[0]):
+        m = depth[j] if 0 <= depth[j] <= nn else nn
+        acc = 0.0
+        for i in range(m):
+            acc += weights[i] * values[j, i]
+        out[j] = acc
 
 
 @njit(cache=True)
 def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, unit_max, F_N, v_free, v_prev,
-              k, tau_cap, beta_T, f, p, dt, deps):
+              k, tau_cap, beta_T, f, p, dt, deps, depth, q_hi):
     """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate)."""
     tau = friction_stress(F_N, theta, tau_cap, f, p)
     vh = corrected_slip(v_free, tau, k)
     v_mac = abs(0.5 * (vh + v_prev))
     q = (theta - theta_ad[0]) / a0
     integral = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max,
-                                  p, deps)
+                                  p, deps, depth, q_hi)
     if integral >= 0.0:
         rate = SQRT3 * integral / dt
         if rate > v_mac:  # kinematic limit: the layer takes at most the macroscopic slip of the step
             scale = v_mac / rate
-            for i in range(deps.shape[0]):
+            m = depth if (depth >= 0 and 0.0 <= q <= q_hi) else deps.shape[0]
+            for i in range(m):
                 deps[i] *= scale
             rate = v_mac
         v_loc = v_mac - rate
@@ -131,16 +208,30 @@ def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, 
 @njit(cache=True)
 def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N, v_free, v_prev, k, tau_cap,
                               beta_T, f, p, dt, xtol, max_iter,
-                              theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status):
+                              theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status, depth,
+                              use_front=True):
     """Per-column interface solve with plasticity (Algorithm 2).  2D arrays are (n_columns, n_nodes).
 
     Outputs: theta_s, tau, v_half = [V]^{n+1/2}, v_local = [v]^n, plastic_rate (m/s),
     q_in = beta_T tau [v] (W/m^2), deps (plastic strain increments), iters, status.
+
+    ``depth`` (in/out, per column): on entry, deps[j, depth[j]:] must be zero (n_nodes is always
+    safe); on exit (status OK) the plastic-front bound of :func:`plastic_depth`: deps[j] is zero
+    from there on, and only nodes above it are visited by the root iterations (``use_front=False``:
+    every node, the reference that the tests compare against).
     """
     st = np.empty(BRENT_STATE)
     T_F = p[I_TF]
     a0 = theta_unit[0]
     nn = theta_unit.shape[0]
+    unit_sfx = np.empty(nn)  # suffix maxima of max(theta_unit, 0): the same for every column
+    ad_sfx = np.empty(nn)
+    hard_sfx = np.empty(nn)
+    run = 0.0
+    for i in range(nn - 1, -1, -1):
+        if theta_unit[i] > run:
+            run = theta_unit[i]
+        unit_sfx[i] = run
     unit_max = 0.0
     for i in range(nn):
         if theta_unit[i] > unit_max:
@@ -149,31 +240,65 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
         iters[j] = 0
         status[j] = OK
         row = theta_ad[j]
+        hrow = hard[j]
         t_ad = row[0]
         if not (math.isfinite(t_ad) and math.isfinite(F_N[j]) and math.isfinite(v_free[j])
                 and math.isfinite(v_prev[j]) and math.isfinite(k[j]) and tau_cap[j] >= 0.0):
             status[j] = BAD_INPUT
             continue
-        q_max = math.inf
-        ad_max = -math.inf
-        for i in range(nn):
-            if row[i] > ad_max:
-                ad_max = row[i]
-            if row[i] >= T_F:
-                q_max = -1.0
-                break
-            if theta_unit[i] > 0.0:
-                qi = (T_F - row[i]) / theta_unit[i]
-                if qi < q_max:
-                    q_max = qi
-        if q_max < 0.0:
-            status[j] = ABOVE_MELT
-            continue
+        # theta >= t_ad in the bracket and tau(theta) falls with theta: tau <= its value at t_ad
+        tau_max = friction_stress(F_N[j], t_ad, tau_cap[j], f, p)
+        if use_front and tau_max <= 0.0:  # no friction at any trial temperature: nothing flows, R(lo) = 0
+            ad_max = -math.inf
+            for i in range(nn):
+                if row[i] > ad_max:
+                    ad_max = row[i]
+            if ad_max >= T_F:
+                status[j] = ABOVE_MELT
+                continue
+            q_max = math.inf  # not needed: the root is theta_ad(0)
+            q_hi = 0.0
+            m = 0
+        else:
+            ad_run = -math.inf
+            hard_run = math.inf
+            for i in range(nn - 1, -1, -1):
+                if row[i] > ad_run:
+                    ad_run = row[i]
+                ad_sfx[i] = ad_run
+                if hrow[i] < hard_run:
+                    hard_run = hrow[i]
+                hard_sfx[i] = hard_run
+            if ad_run >= T_F:
+                status[j] = ABOVE_MELT
+                continue
+            ad_max = ad_run
+            # q_max = min_i (T_F - theta_ad_i)/theta_unit_i; every 8 nodes, stop once the rest cannot go lower:
+            # (T_F - ad_sfx[i])/unit_sfx[i] bounds all later quotients from below (rounding is monotone)
+            q_max = math.inf
+            for i in range(nn):
+                if i % 8 == 0 and i > 0:
+                    if unit_sfx[i] <= 0.0 or (T_F - ad_sfx[i]) / unit_sfx[i] >= q_max:
+                        break
+                if theta_unit[i] > 0.0:
+                    qi = (T_F - row[i]) / theta_unit[i]
+                    if qi < q_max:
+                        q_max = qi
+            q_hi = q_max * (1.0 + 1e-12)
+            m = plastic_depth(tau_max, F_N[j], q_hi, ad_sfx, unit_sfx, hard_sfx, p) if use_front else nn
+        drow = deps[j]
+        old = depth[j] if 0 <= depth[j] <= nn else nn
+        for i in range(m, old):
+            drow[i] = 0.0
+        depth[j] = m
         hi = t_ad + a0 * q_max
         lo = t_ad
-        r_lo, _, _, _, _ = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hard[j], ad_max, unit_max,
-                                     F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
+        # the last evaluation (point, results; its d_eps are in drow): reused when it is the accepted point
+        r_lo, t, vh, vl, rate = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
+                                          F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
+                                          m, q_hi)
         x = lo
+        x_last = lo
         if r_lo < 0.0:
             r_hi = hi - t_ad  # at the upper end tau [v] = 0
             brent_start(lo, r_lo, hi, r_hi, xtol, st)
@@ -183,15 +308,19 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
                 if done:
                     converged = True
                     break
-                r, _, _, _, _ = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hard[j], ad_max, unit_max,
-                                          F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
+                r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
+                                               F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt,
+                                               drow, m, q_hi)
+                x_last = x
                 brent_feed(st, r)
                 iters[j] = it + 1
             if not converged:
                 status[j] = NO_CONVERGENCE
             x = st[B] if st[FB] >= 0.0 else st[C]
-        r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hard[j], ad_max, unit_max,
-                                       F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, deps[j])
+        if x != x_last:  # _evaluate is deterministic: the same point gives the same state
+            r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
+                                           F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
+                                           m, q_hi)
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
             status[j] = ABOVE_MELT
         theta_s[j] = x
