@@ -2,7 +2,7 @@
 
 Hydrodynamic impedance match on the two Mie-Grueneisen Hugoniots and, with strength, the
 elastic-plastic two-wave solution in each plate (analysis/hugoniot.py; theory in
-docs/theory/40-verification.md).
+docs/theory.md (verification)).
 """
 
 from __future__ import annotations
