@@ -138,6 +138,26 @@ def min_jacobian(x0, x1, x2, x3, y0, y1, y2, y3):
 
 
 @njit(cache=True)
+def _gauss_point_map(xs, ys, xi, eta):
+    """Derivatives of the bilinear map and the radius at the reference point (xi, eta):
+    (x_xi, x_eta, y_xi, y_eta, r) with r = sum N_i x_i."""
+    x_xi = 0.0
+    x_eta = 0.0
+    y_xi = 0.0
+    y_eta = 0.0
+    r = 0.0
+    for i in range(4):
+        nxi = 0.25 * _XI[i] * (1.0 + eta * _ETA[i])
+        neta = 0.25 * _ETA[i] * (1.0 + xi * _XI[i])
+        x_xi += nxi * xs[i]
+        x_eta += neta * xs[i]
+        y_xi += nxi * ys[i]
+        y_eta += neta * ys[i]
+        r += 0.25 * (1.0 + xi * _XI[i]) * (1.0 + eta * _ETA[i]) * xs[i]
+    return x_xi, x_eta, y_xi, y_eta, r
+
+
+@njit(cache=True)
 def bvectors(xs, ys, axi, bx, by, h):
     """Fill bx, by, h (length 4) for the quad (xs, ys); return the volume V."""
     if not axi:
@@ -161,20 +181,7 @@ def bvectors(xs, ys, axi, bx, by, h):
         xi = -_G if gi == 0 else _G
         for gj in range(2):
             eta = -_G if gj == 0 else _G
-            x_xi = 0.0
-            x_eta = 0.0
-            y_xi = 0.0
-            y_eta = 0.0
-            r = 0.0
-            for i in range(4):
-                nxi = 0.25 * _XI[i] * (1.0 + eta * _ETA[i])
-                neta = 0.25 * _ETA[i] * (1.0 + xi * _XI[i])
-                n = 0.25 * (1.0 + xi * _XI[i]) * (1.0 + eta * _ETA[i])
-                x_xi += nxi * xs[i]
-                x_eta += neta * xs[i]
-                y_xi += nxi * ys[i]
-                y_eta += neta * ys[i]
-                r += n * xs[i]
+            x_xi, x_eta, y_xi, y_eta, r = _gauss_point_map(xs, ys, xi, eta)
             jac = x_xi * y_eta - x_eta * y_xi
             vol += jac * r
             for i in range(4):
@@ -217,19 +224,7 @@ def corner_weights(xs, ys, axi, out):
         xi = -_G if gi == 0 else _G
         for gj in range(2):
             eta = -_G if gj == 0 else _G
-            x_xi = 0.0
-            x_eta = 0.0
-            y_xi = 0.0
-            y_eta = 0.0
-            r = 0.0
-            for i in range(4):
-                nxi = 0.25 * _XI[i] * (1.0 + eta * _ETA[i])
-                neta = 0.25 * _ETA[i] * (1.0 + xi * _XI[i])
-                x_xi += nxi * xs[i]
-                x_eta += neta * xs[i]
-                y_xi += nxi * ys[i]
-                y_eta += neta * ys[i]
-                r += 0.25 * (1.0 + xi * _XI[i]) * (1.0 + eta * _ETA[i]) * xs[i]
+            x_xi, x_eta, y_xi, y_eta, r = _gauss_point_map(xs, ys, xi, eta)
             jac = x_xi * y_eta - x_eta * y_xi
             for i in range(4):
                 out[i] += 0.25 * (1.0 + xi * _XI[i]) * (1.0 + eta * _ETA[i]) * r * jac
