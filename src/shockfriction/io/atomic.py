@@ -1,0 +1,28 @@
+"""Atomic file replacement: write a temporary file next to the target, then ``os.replace``.
+
+A reader (or a run killed at any instant) sees either the previous complete file or the new
+complete file, never a truncated one (POSIX rename is atomic within a file system).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+
+def atomic_write_text(path: str | Path, text: str) -> Path:
+    """Replace ``path`` by a file holding ``text`` (temporary ``.<name>.tmp`` + ``os.replace``)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp")
+    with tmp.open("w") as fh:
+        fh.write(text)
+        fh.flush()
+        os.fsync(fh.fileno())
+    os.replace(tmp, path)
+    return path
+
+
+def atomic_write_json(path: str | Path, data) -> Path:
+    """``data`` as indented JSON, atomically (see :func:`atomic_write_text`)."""
+    return atomic_write_text(path, json.dumps(data, indent=2) + "\n")
