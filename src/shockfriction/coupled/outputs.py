@@ -15,3 +15,7 @@ Datasets added to the slide line's group of ``interface.h5`` (record times of th
 Energies are per unit depth (plane strain) or per radian (axisymmetric), like ``friction_work_J``.
 """
 
+
+# record of the sub-grid friction model -> dataset of the slide line's group in interface.h5
+SUBGRID_DATASETS = {"theta_interface": "theta_interface_K", "slip_local": "slip_local_mps",
+                    "slip_plastic": "slip_plastic_mps", "slip_macro": "slip_macro_subgrid_mps"}

@@ -17,10 +17,8 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from shockfriction.coupled.outputs import SUBGRID_DATASETS
 from shockfriction.io.interface import DATASETS
-
-SUBGRID_DATASETS = {"theta_interface": "theta_interface_K", "slip_local": "slip_local_mps",
-                    "slip_plastic": "slip_plastic_mps", "slip_macro": "slip_macro_subgrid_mps"}
 
 
 def _grow(grp, name: str, tail: tuple, dtype=np.float64, chunk: int = 64):
