@@ -11,14 +11,18 @@ import os
 from pathlib import Path
 
 
-def atomic_write_text(path: str | Path, text: str) -> Path:
-    """Replace ``path`` by a file holding ``text`` (temporary ``.<name>.tmp`` + ``os.replace``)."""
+def atomic_write_text(path: str | Path, text: str, sync: bool = False) -> Path:
+    """Replace ``path`` by a file holding ``text`` (temporary ``.<name>.tmp`` + ``os.replace``).
+
+    Safe against the process being killed; ``sync`` also forces the data to disk first (fsync),
+    against a crash of the machine (a few ms more)."""
     path = Path(path)
     tmp = path.with_name(f".{path.name}.tmp")
     with tmp.open("w") as fh:
         fh.write(text)
-        fh.flush()
-        os.fsync(fh.fileno())
+        if sync:
+            fh.flush()
+            os.fsync(fh.fileno())
     os.replace(tmp, path)
     return path
 

@@ -5,8 +5,8 @@
 and ``columns.h5`` (:class:`~shockfriction.io.records.RecordWriter`), ``summary.json`` and
 ``checkpoint.h5``.  The cycle calls it (never the reverse): history rows through
 ``Simulation.observers``, and between two cycles through ``Simulation.between_cycles``, where
-an *output* happens when a field output was written, a slide line closed a record window, a
-checkpoint is due, or 10 s of wall time passed.  At an output the CSV files are flushed, the new
+an *output* happens when a field output was written, a checkpoint is due, slide lines closed
+record windows (at most one such output per second of wall time), or 10 s of wall time passed.  At an output the CSV files are flushed, the new
 records appended to the HDF5 files (flushed) and ``summary.json`` replaced atomically with
 ``completed: false``; at the end of the run ``completed`` becomes true.
 
@@ -28,6 +28,7 @@ from shockfriction.io.atomic import atomic_write_json
 from shockfriction.io.checkpoint import load_checkpoint, save_checkpoint
 
 WALL_FLUSH_S = 10.0  # an output at least this often (wall time), for the CSV files and summary.json
+RECORD_FLUSH_S = 1.0  # new slide-line records make an output at most this often (wall time)
 
 
 class RunInterrupted(Exception):
@@ -113,8 +114,8 @@ class RunOutputs:
             return
         n_rec = self._count_records()
         n_fields = self.fields.position[0] if self.fields is not None else 0
-        if n_rec != self._n_records or n_fields != self._n_fields \
-                or time.perf_counter() - self._last_flush > WALL_FLUSH_S:
+        wall = time.perf_counter() - self._last_flush
+        if n_fields != self._n_fields or (n_rec != self._n_records and wall > RECORD_FLUSH_S) or wall > WALL_FLUSH_S:
             self.flush()
 
     # ------------------------------------------------------------------ outputs
