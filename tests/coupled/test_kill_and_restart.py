@@ -200,9 +200,13 @@ def test_restart_refuses_another_deck(reference, tmp_path):
         run(other, out, restart=True)
     with pytest.raises(DeckError, match="no checkpoint"):
         run(deck, tmp_path / "empty", restart=True)
+    longer = tmp_path / "longer.toml"  # the end time may change
+    longer.write_text(DECK.format(end="0.7 us"))
+    res = run(longer, out, restart=True)
+    assert res.summary["completed"] and res.state.t == pytest.approx(0.7e-6, rel=1e-12)
+    assert json.loads((out / "summary.json").read_text())["restarted_from_s"] == pytest.approx(0.2e-6, rel=0.05)
 
 
-@pytest.mark.slow
 def test_sigkill_leaves_readable_outputs_and_restarts_bit_for_bit(reference, tmp_path):
     deck, ref, _ = reference
     out = tmp_path / "out"
@@ -215,8 +219,12 @@ def test_sigkill_leaves_readable_outputs_and_restarts_bit_for_bit(reference, tmp
         assert (out / name).stat().st_size > 0, name
     t_out = check_readable(out)
     assert 0.2e-6 <= t_out < 0.6e-6
-    res = run(deck, out, restart=True)
-    assert res.summary["completed"]
+    from shockfriction.cli import main
+
+    with pytest.raises(SystemExit) as exc:  # the command line's --restart
+        main(["run", str(deck), "--out", str(out), "--restart", "-q"])
+    assert exc.value.code in (0, None)
+    assert json.loads((out / "summary.json").read_text())["completed"] is True
     assert_same_outputs(ref, out)
 
 
