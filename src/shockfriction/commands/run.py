@@ -30,7 +30,7 @@ def register(app: typer.Typer) -> None:
 
         sim = prepare(deck, threads=threads)
         try:
-            res = run_simulation(sim, out, progress=not quiet, restart=restart)
+            res = run_simulation(sim, out, progress=not quiet, restart=restart, signals=True)
         except RunInterrupted as exc:
             Console(stderr=True).print(f"[yellow]{exc}; outputs and checkpoint written in {out} "
                                        "(continue with --restart)[/]", highlight=False)

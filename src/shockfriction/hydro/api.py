@@ -94,16 +94,19 @@ def summarize(sim: Simulation) -> dict[str, Any]:
 
 
 def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress: bool = False,
-                   on_progress: Callable[[float], None] | None = None, restart: bool = False) -> Result:
+                   on_progress: Callable[[float], None] | None = None, restart: bool = False,
+                   signals: bool = False) -> Result:
     """Run a prepared simulation, writing ``probes.csv``, ``energy.csv``, fields, slide-line records
     and ``summary.json`` into ``out_dir`` when given, complete at every output time
-    (:class:`~shockfriction.io.session.RunOutputs`); ``restart``: continue from ``out_dir``'s checkpoint."""
+    (:class:`~shockfriction.io.session.RunOutputs`); ``restart``: continue from ``out_dir``'s checkpoint;
+    ``signals``: SIGTERM/SIGINT stop at the end of a cycle with a checkpoint (raises
+    :class:`~shockfriction.io.session.RunInterrupted`)."""
     outputs = None
     if out_dir is not None:
         from shockfriction.io.session import RunOutputs
 
         outputs = RunOutputs(sim, out_dir, restart=restart, summarize=summarize,
-                             headers=(energy_header(sim.state.axisymmetric), probe_header(sim)))
+                             headers=(energy_header(sim.state.axisymmetric), probe_header(sim)), signals=signals)
     elif restart:
         raise ValueError("restart needs the output folder that holds the checkpoint")
     bar = None

@@ -10,7 +10,9 @@ record windows (at most one such output per second of wall time), or 10 s of wal
 records appended to the HDF5 files (flushed) and ``summary.json`` replaced atomically with
 ``completed: false``; at the end of the run ``completed`` becomes true.
 
-SIGTERM and SIGINT (Ctrl-C) set a flag that stops the run at the end of the current cycle: a
+With ``signals=True`` (the ``run`` command; not for library calls, sweeps or fits, where
+SIGINT stays a KeyboardInterrupt and the outputs are finished as on failure), SIGTERM and
+SIGINT (Ctrl-C) set a flag that stops the run at the end of the current cycle: a
 checkpoint is written, then the outputs are finished as at the end of a run, with
 ``completed: false`` and ``interrupted: "SIGTERM"`` (or ``"SIGINT"``); the command exits with
 128 + the signal number (143, 130).  A second signal interrupts at once (no checkpoint).
@@ -43,7 +45,8 @@ class RunInterrupted(Exception):
 class RunOutputs:
     """Writers of the output folder ``out`` of ``sim``; ``restart``: continue from its checkpoint."""
 
-    def __init__(self, sim, out: str | Path, restart: bool = False, summarize=None, headers=None):
+    def __init__(self, sim, out: str | Path, restart: bool = False, summarize=None, headers=None,
+                 signals: bool = False):
         from shockfriction.contact.build import interface_lines
         from shockfriction.io.fields import FieldWriter
         from shockfriction.io.histories import CsvHistory
@@ -83,7 +86,7 @@ class RunOutputs:
             sim.observers.append(self.fields.maybe_write)
         sim.between_cycles.append(self.between_cycles)
         self._old_handlers = {}
-        if threading.current_thread() is threading.main_thread():
+        if signals and threading.current_thread() is threading.main_thread():
             for sig in (signal.SIGTERM, signal.SIGINT):
                 self._old_handlers[sig] = signal.signal(sig, self._on_signal)
         self.write_summary(completed=False)
