@@ -147,6 +147,6 @@ def run(deck_or_path, out_dir: str | Path | None = None, progress: bool = False,
 
 
 def run_dict(deck_dict: dict, out_dir: str | Path | None = None, progress: bool = False,
-             threads: int | None = None) -> Result:
+             threads: int | None = None, restart: bool = False) -> Result:
     """Run a deck given as a dict (unit strings as in TOML), e.g. from a sweep."""
-    return run(load(deck_dict, "deck"), out_dir, progress, threads)
+    return run(load(deck_dict, "deck"), out_dir, progress, threads, restart)
