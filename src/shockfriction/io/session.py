@@ -24,6 +24,7 @@ import math
 import signal
 import threading
 import time
+import warnings
 from pathlib import Path
 
 from shockfriction.io.atomic import atomic_write_json
@@ -61,6 +62,9 @@ class RunOutputs:
         self.interval = deck.output.checkpoint_interval
         self.restart_info = load_checkpoint(self.out, sim) if restart else None
         info = self.restart_info or {}
+        if restart and info["threads"] != sim.threads:
+            warnings.warn(f"restart with {sim.threads} threads from a checkpoint taken with {info['threads']}: "
+                          "the continuation is bit for bit only with the same thread count", stacklevel=2)
         energy_header, probe_header = headers
         self.energy_csv = CsvHistory(self.out / "energy.csv", energy_header, resume_at=info.get("energy_csv"))
         self.probes_csv = CsvHistory(self.out / "probes.csv", probe_header, resume_at=info.get("probes_csv"))
