@@ -82,6 +82,7 @@ class RunOutputs:
             self.next_checkpoint = math.inf
         self.last_checkpoint = info.get("time_s")
         self.interrupted: str | None = None
+        self._wall0 = sim.wall_time  # wall time before this segment (restart)
         self._stop: str | None = None
         self._last_flush = time.perf_counter()
         sim.out_dir = self.out
@@ -142,7 +143,12 @@ class RunOutputs:
         """An output, then ``checkpoint.h5`` with the positions of that output."""
         pos = self.flush()
         pos["next_checkpoint"] = self.next_checkpoint if math.isfinite(self.next_checkpoint) else None
-        path = save_checkpoint(self.out, self.sim, pos)
+        wall = self.sim.wall_time  # the cycle adds this segment's time at its end: count it in the checkpoint
+        self.sim.wall_time = self._wall0 + time.perf_counter() - self.started
+        try:
+            path = save_checkpoint(self.out, self.sim, pos)
+        finally:
+            self.sim.wall_time = wall
         self.last_checkpoint = self.sim.state.t
         self.write_summary(False)
         return path
