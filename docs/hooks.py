@@ -5,7 +5,8 @@
   ``reference/<kind>.schema.json``, the JSON schema that ``shockfriction schema KIND`` prints;
 * ``verification.md``: every verification table of the theory pages (docs/theory.md and
   docs/theory/*.md), collected under the heading it belongs to;
-* the ``theory/*.md`` entry of the nav is replaced by every docs/theory/*.md file;
+* the ``theory/*.md`` entry of the nav is replaced by every docs/theory/*.md file, and pages
+  that the nav does not list are added under 'More' (a strict build never fails on them);
 * ``<!-- gallery -->`` in a page is replaced by every figure under docs/figures/, and
   ``<!-- examples -->`` by a table of the files in examples/ (their leading comment).
 """
@@ -61,7 +62,23 @@ def on_files(files: Files, config, **kwargs) -> Files:
         files.append(File.generated(config, f"reference/{kind}.md", content=markdown_reference(kind)))
         files.append(File.generated(config, f"reference/{kind}.schema.json", content=json_text(kind) + "\n"))
     files.append(File.generated(config, "verification.md", content=verification_page()))
+    if config.get("nav"):  # a page another branch adds outside the nav still gets listed
+        listed = set(_nav_paths(config["nav"]))
+        extra = sorted(f.src_uri for f in files.documentation_pages() if f.src_uri not in listed)
+        if extra:
+            config["nav"].append({"More": [{_title(p) if (DOCS / p).exists() else p: p} for p in extra]})
     return files
+
+
+def _nav_paths(items) -> list[str]:
+    out = []
+    for item in items if isinstance(items, list) else [items]:
+        if isinstance(item, str):
+            out.append(item)
+        elif isinstance(item, dict):
+            for v in item.values():
+                out += _nav_paths(v)
+    return out
 
 
 # --- verification tables ---------------------------------------------------------------------------
