@@ -272,3 +272,16 @@ print("ok")
     env = {"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin", "HOME": str(tmp_path)}
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=120)
     assert res.returncode == 0 and res.stdout.strip() == "ok", res.stderr
+
+
+def test_ctrl_c_exits_130(tmp_path, capsys, monkeypatch):
+    import shockfriction.hydro.api as api
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(api, "run_simulation", interrupted)
+    deck = tmp_path / "deck.toml"
+    deck.write_text(RUN_DECK)
+    code, _, err = cli(["run", deck, "--out", tmp_path / "o"], capsys)
+    assert code == 130 and "Traceback" not in err

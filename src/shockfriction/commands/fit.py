@@ -20,7 +20,7 @@ def register(app: typer.Typer) -> None:
         workers: Optional[int] = typer.Option(None, "--workers", help="local pool size (default: all cores); "
                                               "with --scheduler, wait for this many Dask workers"),
         verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
-        quiet: bool = typer.Option(False, "--quiet", "-q", help="log errors only"),
+        quiet: bool = typer.Option(False, "--quiet", "-q", help="no evaluation lines; log errors only"),
     ) -> None:
         """Fit parameters (and a time shift) by least squares; report values, 1-sigma uncertainties, residual."""
         from rich.console import Console
@@ -40,7 +40,7 @@ def register(app: typer.Typer) -> None:
             values = ", ".join(f"{n} = {v:.6g}" for n, v in point.items() if n != "rms")
             err.print(f"evaluation {k}: {values}: rms {point['rms']:.4g}", highlight=False)
 
-        res = run_fit(fit_file, scheduler, workers, on_evaluation=report)
+        res = run_fit(fit_file, scheduler, workers, on_evaluation=None if quiet else report)
         paths = write_outputs(res, out_dir)
         console = Console()
         table = Table(title=f"fit of {fit_file.name}: {res.message}")
