@@ -59,7 +59,14 @@ def cli(argv, capsys):
 def test_version_prints_the_package_version(capsys):
     code, out, _ = cli(["--version"], capsys)
     assert code == 0 and out.strip() == f"shockfriction {shockfriction.__version__}"
-    assert shockfriction.__version__ == "0.2.0"
+    # one source: pyproject reads the version from the package (no tag needed in a fresh clone)
+    import re
+    import tomllib
+
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert "version" in project["project"]["dynamic"]
+    assert project["tool"]["setuptools"]["dynamic"]["version"] == {"attr": "shockfriction.__version__"}
+    assert re.fullmatch(r"\d+\.\d+\.\d+", shockfriction.__version__) and shockfriction.__version__ != "0.1.0"
 
 
 def test_help_documents_the_exit_codes(capsys):
