@@ -13,6 +13,7 @@ interfaces, change the initial state, or step by hand).
 from __future__ import annotations
 
 import json
+import logging
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,6 +27,8 @@ from shockfriction.hydro.cycle import ENERGY_COLUMNS, Simulation
 from shockfriction.hydro.setup import build_problem, build_slide_lines
 from shockfriction.hydro.state import State
 from shockfriction.mesh.assembly import Mesh
+
+log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -104,6 +107,8 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
 
     out = Path(out_dir) if out_dir is not None else None
     sim.out_dir = out
+    log.info("%d zones, %d nodes, end time %.4g s, %d thread(s), outputs in %s",
+             sim.state.n_cells, sim.state.n_nodes, sim.t_end, sim.threads, out or "(none)")
     writers = []
     fields = None
     if out is not None:

@@ -92,7 +92,7 @@ class FieldWriter:
                 lines += [f'<Attribute Name="{name}" AttributeType="Scalar" Center="Cell">',
                           f'<DataItem Dimensions="{n_cells}" NumberType="Float" Precision="8" Format="HDF">'
                           f"{h5}:/{step}/{name}</DataItem>", "</Attribute>"]
-            lines += [f'<Attribute Name="body" AttributeType="Scalar" Center="Cell">',
+            lines += ['<Attribute Name="body" AttributeType="Scalar" Center="Cell">',
                       f'<DataItem Dimensions="{n_cells}" NumberType="Int" Precision="8" Format="HDF">'
                       f"{h5}:/body</DataItem>", "</Attribute>", "</Grid>"]
         lines += ["</Grid>", "</Domain>", "</Xdmf>"]
