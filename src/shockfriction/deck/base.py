@@ -77,14 +77,15 @@ def read_toml(path: str | Path) -> dict:
         raise DeckError(f"{path}: not valid TOML: {exc}") from None
 
 
-def validate(model: type[M], data: dict, source: str = "deck") -> M:
-    """Validate ``data`` against ``model``; errors become one readable DeckError."""
+def validate(model: type[M], data: dict, source: str = "deck", folder: str | Path | None = None) -> M:
+    """Validate ``data`` against ``model``; errors become one readable DeckError.  ``folder``:
+    the deck's folder, against which relative file paths in the deck (mesh files) are resolved."""
     try:
-        return model.model_validate(data)
+        return model.model_validate(data, context={"deck_dir": folder} if folder is not None else None)
     except ValidationError as err:
         raise DeckError(format_validation_error(err, source, data)) from None
 
 
 def load_deck(path: str | Path, model: type[M]) -> M:
     """Read and validate a TOML deck."""
-    return validate(model, read_toml(path), str(path))
+    return validate(model, read_toml(path), str(path), Path(path).parent)
