@@ -51,7 +51,7 @@ def _mesh_geo(path: Path, parameters: dict[str, float]) -> Path:
     import gmsh
 
     out = Path(tempfile.mkdtemp(prefix="shockfriction-gmsh-")) / (path.stem + ".msh")
-    gmsh.initialize(["gmsh", "-noenv"], readConfigFiles=False)
+    gmsh.initialize(readConfigFiles=False, interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         for name, value in parameters.items():
