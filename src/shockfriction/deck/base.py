@@ -43,8 +43,9 @@ def format_validation_error(err: ValidationError, source: str = "deck", raw: dic
     """One line per error: ``source: field.path = <given>: expected <what>``."""
     lines = []
     for e in err.errors(include_url=False):
-        path = _field_path(tuple(p for p in e["loc"] if not (isinstance(p, str) and p.startswith("function-"))))
-        given = _lookup(raw, e["loc"]) if raw is not None else e.get("input")
+        loc = tuple(p for p in e["loc"] if not (isinstance(p, str) and p.startswith(("function-", "kind:"))))
+        path = _field_path(loc)
+        given = _lookup(raw, loc) if raw is not None else e.get("input")
         expected = _EXPECT.get(e["type"]) or e["msg"].removeprefix("Value error, ")
         if e["type"] == "missing":
             lines.append(f"{source}: {path} is missing: expected {expected}")

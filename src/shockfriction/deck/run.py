@@ -90,11 +90,11 @@ class MeshFile(DeckModel):
 
 def _mesh_kind(v) -> str:
     if isinstance(v, dict):
-        return "file" if "file" in v else "block"
-    return "file" if isinstance(v, MeshFile) else "block"
+        return "kind:file" if "file" in v else "kind:block"
+    return "kind:file" if isinstance(v, MeshFile) else "kind:block"
 
 
-AnyMesh = Annotated[Union[Annotated[MeshSpec, Tag("block")], Annotated[MeshFile, Tag("file")]],
+AnyMesh = Annotated[Union[Annotated[MeshSpec, Tag("kind:block")], Annotated[MeshFile, Tag("kind:file")]],
                     Discriminator(_mesh_kind)]
 
 
