@@ -50,7 +50,8 @@ def _mesh_geo(path: Path, parameters: dict[str, float]) -> Path:
     file should define defaults with ``If (!Exists(name)) name = value; EndIf``); returns a .msh."""
     import gmsh
 
-    out = Path(tempfile.mkdtemp(prefix="shockfriction-gmsh-")) / (path.stem + ".msh")
+    folder = Path(tempfile.mkdtemp(prefix="shockfriction-gmsh-"))
+    out = folder / (path.stem + ".msh")
     gmsh.initialize(readConfigFiles=False, interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -61,6 +62,8 @@ def _mesh_geo(path: Path, parameters: dict[str, float]) -> Path:
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         gmsh.write(str(out))
     except Exception as exc:  # gmsh raises a bare Exception carrying its last error
+        out.unlink(missing_ok=True)
+        folder.rmdir()
         raise MeshFileError(f"{path}: gmsh could not mesh it: {exc}") from None
     finally:
         gmsh.finalize()
@@ -130,9 +133,11 @@ class FileBlock:
         others = data.others.get(group, [])
         if others:
             kinds = ", ".join(f"{len(v)} {t}" for t, v in others)
+            centres = data.points[others[0][1][:3]].mean(axis=1)
+            where = ", ".join(f"({x:.6g}, {y:.6g})" for x, y in centres)
             raise MeshFileError(
-                f"{data.path}: physical surface {group!r} has {kinds} elements (e.g. nodes "
-                f"{others[0][1][0].tolist()}); only 4-node quadrilaterals are used: recombine the mesh "
+                f"{data.path}: physical surface {group!r} has {kinds} elements (the first centred at {where} m); "
+                "only 4-node quadrilaterals are used: recombine the mesh "
                 "(Recombine Surface{...}; or Mesh.RecombineAll = 1; first order)")
         quads = data.quads[group]
         if len(quads) == 0:
@@ -204,8 +209,8 @@ class FileBlock:
         nxt = {}
         for p, q, c in segs:
             if p in nxt:
-                raise MeshFileError(f"{self.source}: physical curve {name!r} branches at node "
-                                    f"{int(self._ids[p]) + 1} of body {self.group!r}; a side is one path")
+                raise MeshFileError(f"{self.source}: physical curve {name!r} branches at ({self.x[p]:.6g}, "
+                                    f"{self.y[p]:.6g}) m on body {self.group!r}; a side is one path")
             nxt[p] = (q, c)
         heads = set(nxt) - {q for q, _ in nxt.values()}
         if len(heads) > 1:
