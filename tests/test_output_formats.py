@@ -46,7 +46,7 @@ def test_meshio_reads_every_field_output(cone_run):
 
 
 def test_interface_and_column_csv_open_at_every_record_time(cone_run):
-    res, out = cone_run
+    _, out = cone_run
     iface = pd.read_csv(out / "interface.csv")
     assert {"line", "t [s]", "node", "x [m]", "sigma_n [Pa]", "tau [Pa]", "slip [m/s]",
             "theta_interface [K]"} <= set(iface.columns)

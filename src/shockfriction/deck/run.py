@@ -10,17 +10,16 @@ into arrays.  Slide lines (contact/friction between bodies) are the
 from __future__ import annotations
 
 import re
+from pathlib import Path
 from typing import Annotated, Literal, Optional, Union
 
-from pathlib import Path
-
-from pydantic import ConfigDict, Discriminator, Field, Tag, TypeAdapter, ValidationError, ValidationInfo, field_validator, \
-    model_validator
+from pydantic import (ConfigDict, Discriminator, Field, Tag, TypeAdapter, ValidationError, ValidationInfo,
+                      field_validator, model_validator)
 
 from shockfriction.contact.deck import SlideLineDeck
 from shockfriction.deck.base import DeckModel
 from shockfriction.units import (
-    Density, Dimensionless, Length, Pressure, PositiveLength, PositiveTime, SpecificEnergy, SpecificHeat, Temperature,
+    Density, Dimensionless, Length, PositiveLength, PositiveTime, Pressure, SpecificEnergy, SpecificHeat, Temperature,
     Velocity,
 )
 
@@ -140,7 +139,7 @@ class Boundary(DeckModel):
                 raise ValueError(f"periodic must be given on both {a} and {b}")
         return self
 
-    def given(self, file_mesh: bool) -> list[tuple[str, "BoundaryKind"]]:
+    def given(self, file_mesh: bool) -> list[tuple[str, BoundaryKind]]:
         """(side, condition) pairs to apply: the four sides of a block; the named sides of a file mesh."""
         if not file_mesh:
             return [(side, getattr(self, side)) for side in SIDE_NAMES]

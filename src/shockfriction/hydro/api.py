@@ -50,7 +50,7 @@ class Result:
     simulation: Simulation | None = field(default=None, repr=False)
 
     @property
-    def probes_df(self) -> "pd.DataFrame":
+    def probes_df(self) -> pd.DataFrame:
         """Probe histories: ``t [s]``, then ``<probe>.<quantity> [unit]``."""
         from shockfriction.io.tables import history_frame
 
@@ -58,7 +58,7 @@ class Result:
         return history_frame(self.probes, header)
 
     @property
-    def energy_df(self) -> "pd.DataFrame":
+    def energy_df(self) -> pd.DataFrame:
         """Energy history: ``t [s]``, ``kinetic [J]``, ... (``[J/m]`` in plane strain)."""
         from shockfriction.io.tables import history_frame
 
@@ -70,7 +70,7 @@ class Result:
         return None
 
     @property
-    def interface_df(self) -> "pd.DataFrame":
+    def interface_df(self) -> pd.DataFrame:
         """Slide-line records, one row per (line, record time, slave node) (empty without slide lines)."""
         from shockfriction.io.interface import DATASETS, read_interface
         from shockfriction.io.tables import interface_frame
@@ -88,7 +88,7 @@ class Result:
         return interface_frame(records)
 
     @property
-    def columns_df(self) -> "pd.DataFrame":
+    def columns_df(self) -> pd.DataFrame:
         """Sub-grid column profiles, one row per (line, time, node, depth); needs ``out_dir``."""
         from shockfriction.io.columns import read_columns
         from shockfriction.io.tables import columns_frame

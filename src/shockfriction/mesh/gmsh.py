@@ -61,7 +61,7 @@ def _mesh_geo(path: Path, parameters: dict[str, float]) -> Path:
         gmsh.model.mesh.generate(2)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         gmsh.write(str(out))
-    except Exception as exc:  # gmsh raises a bare Exception carrying its last error
+    except Exception as exc:  # noqa: BLE001 -- gmsh raises a bare Exception carrying its last error
         out.unlink(missing_ok=True)
         folder.rmdir()
         raise MeshFileError(f"{path}: gmsh could not mesh it: {exc}") from None
@@ -80,7 +80,7 @@ def read_mesh_file(path: str | Path, scale: float = 1.0, parameters: dict[str, f
     msh = _mesh_geo(path, parameters or {}) if path.suffix == ".geo" else path
     try:
         m = meshio.read(msh, file_format="gmsh")
-    except Exception as exc:  # meshio raises ReadError, KeyError, ValueError, ... on bad files
+    except Exception as exc:  # noqa: BLE001 -- meshio raises ReadError, KeyError, ValueError, ... on bad files
         raise MeshFileError(f"{path}: not a readable gmsh mesh: {exc}") from None
     finally:
         if msh is not path:
