@@ -160,8 +160,9 @@ class Simulation:
     def _fail(self, cell: int, code: int) -> None:
         s = self.state
         name, i, j = self.mesh.cell_ij(cell)
+        where = f"cell ({i}, {j})" if j >= 0 else f"file cell {i}"
         raise SimulationError(
-            f"body {name!r}, cell ({i}, {j}) [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
+            f"body {name!r}, {where} [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
     def _forces(self) -> None:

@@ -8,22 +8,27 @@ from __future__ import annotations
 
 import json
 import os
+import tempfile
 from pathlib import Path
 
 
 def atomic_write_text(path: str | Path, text: str, sync: bool = False) -> Path:
-    """Replace ``path`` by a file holding ``text`` (temporary ``.<name>.tmp`` + ``os.replace``).
+    """Replace ``path`` by a file holding ``text`` (a temporary file next to it + ``os.replace``).
 
     Safe against the process being killed; ``sync`` also forces the data to disk first (fsync),
     against a crash of the machine (a few ms more)."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp")
-    with tmp.open("w") as fh:
-        fh.write(text)
-        if sync:
-            fh.flush()
-            os.fsync(fh.fileno())
-    os.replace(tmp, path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+            if sync:
+                fh.flush()
+                os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
     return path
 
 

@@ -6,9 +6,10 @@ and ``columns.h5`` (:class:`~shockfriction.io.records.RecordWriter`), ``summary.
 ``checkpoint.h5``.  The cycle calls it (never the reverse): history rows through
 ``Simulation.observers``, and between two cycles through ``Simulation.between_cycles``, where
 an *output* happens when a field output was written, a checkpoint is due, slide lines closed
-record windows (at most one such output per second of wall time), or 10 s of wall time passed.  At an output the CSV files are flushed, the new
-records appended to the HDF5 files (flushed) and ``summary.json`` replaced atomically with
-``completed: false``; at the end of the run ``completed`` becomes true.
+record windows (at most one such output per second of wall time), or 10 s of wall time
+passed.  At an output the CSV files are flushed, the new records appended to the HDF5 files
+(flushed) and ``summary.json`` replaced atomically with ``completed: false``; at the end of the
+run ``completed`` becomes true.
 
 With ``signals=True`` (the ``run`` command; not for library calls, sweeps or fits, where
 SIGINT stays a KeyboardInterrupt and the outputs are finished as on failure), SIGTERM and
@@ -184,6 +185,9 @@ class RunOutputs:
         if self.fields is not None:
             self.fields.close(self.sim)
         write_interface_outputs(self.sim, self.out, self.records)  # slide-line records: interface.h5 + maps
+        from shockfriction.io.tables import write_record_tables
+
+        write_record_tables(self.out)  # interface.csv, columns.csv
         sim = self.sim
         done = exc is None and sim.state.t >= sim.t_end * (1 - 1e-12)
         self.write_summary(completed=done)

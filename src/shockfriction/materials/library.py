@@ -181,7 +181,8 @@ def parse_material(raw: dict, source: str = "material file") -> Material:
             value = to_si(entry["value"], kind)
         except UnitError as exc:
             raise DeckError(f"{source}: {key}.value = {entry['value']!r}: {exc}") from None
-        unit = str(entry["value"]).split(maxsplit=1)[1] if isinstance(entry["value"], str) and " " in entry["value"].strip() else ""
+        has_unit = isinstance(entry["value"], str) and " " in entry["value"].strip()
+        unit = str(entry["value"]).split(maxsplit=1)[1] if has_unit else ""
         params[key] = Parameter(value, str(entry["value"]), unit, entry["source"], entry["status"])
     missing = [k for k in REQUIRED if k not in params]
     if not ("diffusivity" in params or "heat_capacity" in params):
