@@ -127,8 +127,8 @@ class Body(DeckModel):
         if self.eos == "mie-gruneisen" and self.material is None:
             missing = [k for k in CUSTOM_MG_REQUIRED if getattr(self, k) is None]
             if missing:
-                raise ValueError("a Mie-Grueneisen body without a library material needs all its properties "
-                                 f"inline; missing: {', '.join(missing)} (or give material = \"Al6061-T6\", ...)")
+                raise ValueError("every Mie-Grueneisen property inline when no library material is given; "
+                                 f"missing: {', '.join(missing)} (with units; or give material = \"Al6061-T6\")")
         if self.eos == "ideal-gas":
             missing = [k for k in ("density", "gamma") if getattr(self, k) is None]
             if missing:

@@ -19,6 +19,7 @@ from shockfriction.mesh.block import SIDES, Block
 from shockfriction.units import UnitError, pressure_power_time_to_si
 
 IDEAL_GAS_DEFAULT_CV = 718.0  # J/(kg K), air; only used for the reported temperature
+ELASTIC_NO_YIELD = 1e300  # Pa: the flow stress of strength = "elastic" (never reached)
 
 
 @dataclass
@@ -95,8 +96,8 @@ def material_row(body, source: str) -> tuple[np.ndarray, np.ndarray]:
     if body.strength in ("elastic", "elastic-perfectly-plastic"):
         row[mp.P_STRENGTH] = mp.STRENGTH_EPP
         row[mp.P_G0] = _from_body_or_material(body, mat, "shear_modulus", "G0", source)
-        # elastic: no yield (sqrt(3/2 S:S) <= inf always holds)
-        row[mp.P_Y0] = np.inf if body.strength == "elastic" else \
+        # elastic: no yield (a finite stand-in for infinity, so that Y d_eps = 0 stays 0 in the kernels)
+        row[mp.P_Y0] = ELASTIC_NO_YIELD if body.strength == "elastic" else \
             _from_body_or_material(body, mat, "yield_stress", "Y0", source)
     elif body.strength == "scg":
         row[mp.P_STRENGTH] = mp.STRENGTH_SCG
