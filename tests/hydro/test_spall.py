@@ -20,7 +20,11 @@ import pytest
 from shockfriction.errors import DeckError
 from shockfriction.hydro.api import prepare, run_dict, run_simulation
 from shockfriction.hydro.matprops import SPALL_CUTOFF, SPALL_TULER_BUTCHER
-from shockfriction.hydro.spall import max_principal_stress, spall_damage, tuler_butcher_rate
+from shockfriction.hydro.spall import (
+    max_principal_stress,
+    spall_damage,
+    tuler_butcher_rate,
+)
 from shockfriction.materials.library import get_material
 
 CU = get_material("Cu-OFHC")
@@ -31,7 +35,7 @@ def _body(name, y0, y1, **kw):
     b = {"name": name, "material": "Cu-OFHC", "velocity": ["0 m/s", "0 m/s"],
          "mesh": {"corners": [["0 mm", f"{y0 * 1e3} mm"], ["0.01 mm", f"{y0 * 1e3} mm"],
                               ["0.01 mm", f"{y1 * 1e3} mm"], ["0 mm", f"{y1 * 1e3} mm"]],
-                  "nx": 1, "ny": int(round((y1 - y0) / DY))},
+                  "nx": 1, "ny": round((y1 - y0) / DY)},
          "boundary": {"left": "symmetry", "right": "symmetry"}}
     b.update(kw)
     return b
