@@ -201,3 +201,31 @@ def test_damage_is_a_field_and_a_probe(tmp_path):
         dmg = f["step_00000/damage"][()]
     # one cell fails (the other then unloads): the field and the probe say which
     assert sorted(dmg.tolist()) == [0.0, 1.0] and res.probes["c.damage"][-1] == dmg[-1] == 1.0
+
+
+def test_square_pulse_spalls_where_and_when_the_release_waves_meet():
+    """Uniform Cu flyer h_f = 1 mm at 100 m/s on a Cu target h_t = 2 mm (cut-off 1.3 GPa < the
+    1.76 GPa pulse): the two release fronts (from the flyer's rear and from the free surface) meet
+    at depth h_f below the free surface at t = (h_f + h_t)/c0, where the tension jumps to the pulse
+    amplitude and the target fails at once."""
+    hf, ht, v = 1.0e-3, 2.0e-3, 100.0
+    deck = {"time": {"end": "0.9 us"},
+            "bodies": [_body("flyer", -hf, 0.0, velocity=["0 m/s", f"{v} m/s"]),
+                       _body("target", 0.0, ht, spall="cutoff")],
+            "ties": [{"sides": ["flyer.top", "target.bottom"]}]}
+    sim = prepare(deck)
+    first = []
+
+    def watch(sim):
+        st = sim.state
+        if not first and (st.damage >= 1.0).any():
+            c = int(np.argmax(st.damage >= 1.0))
+            first.append((st.t, ht - st.y[st.conn[c]].mean()))
+
+    sim.observers.append(watch)
+    run_simulation(sim)
+    t_fail, depth = first[0]
+    t_exact = (hf + ht) / CU.eos_c0
+    print(f"first failure {t_fail * 1e6:.4f} us (acoustic {t_exact * 1e6:.4f}), depth {depth * 1e3:.4f} mm (1 mm)")
+    assert abs(t_fail / t_exact - 1) < 0.01  # measured 0.27 %
+    assert abs(depth / hf - 1) < 0.03  # measured 2.1 % (two 10 um cells)
