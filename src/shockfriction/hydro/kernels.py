@@ -40,8 +40,8 @@ from shockfriction.hydro.matprops import (
     P_PSPALL, P_SCG, P_SPALL, P_STRENGTH, P_T0, P_TB_K, P_TB_LAMBDA, P_TB_SIGMA0, P_Y0, SPALL_NONE, STRENGTH_EPP,
     STRENGTH_NONE,
 )
-from shockfriction.hydro.spall import spall_damage
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
+from shockfriction.hydro.spall import spall_damage
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
 
 def _twin(func, suffix: str):
