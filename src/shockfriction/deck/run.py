@@ -144,6 +144,8 @@ class Body(DeckModel):
         if self.strength == "elastic" and self.yield_stress is not None:
             raise ValueError("strength = \"elastic\" has no yield: remove yield_stress (or use "
                              "\"elastic-perfectly-plastic\")")
+        if self.eos_tension != "linear" and self.eos != "mie-gruneisen":
+            raise ValueError("eos_tension applies to Mie-Grueneisen bodies only")
         if self.spall != "none" and self.eos != "mie-gruneisen":
             raise ValueError(f"spall = \"{self.spall}\" needs a Mie-Grueneisen (solid) body")
         if self.material is None:
