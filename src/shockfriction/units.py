@@ -115,6 +115,23 @@ def quantity_schema(kind: str, number_schema: dict | None = None) -> dict:
     return out
 
 
+def pressure_power_time_to_si(value: str, power: float) -> float:
+    """A quantity of dimension pressure^power x time (the Tuler-Butcher K, e.g. '2.5 GPa^2*us')
+    to SI (Pa^power s)."""
+    if not isinstance(value, str):
+        raise UnitError(f"expected a pressure^{power:g} x time with its unit, such as '1 GPa^{power:g}*us', "
+                        f"got {value!r}")
+    try:
+        q = _parse(value.strip())
+    except Exception as exc:
+        raise UnitError(f"cannot read {value!r} as a quantity ({exc})") from None
+    target = ureg.Quantity(1.0, "Pa") ** power * ureg.Quantity(1.0, "s")
+    if not isinstance(q, pint.Quantity) or q.dimensionality != target.dimensionality:
+        raise UnitError(f"{value!r} is not a pressure^{power:g} x time (lambda = {power:g}), "
+                        f"such as '1 GPa^{power:g}*us'")
+    return float((q / target).to("").magnitude)
+
+
 def quantity(kind: str) -> BeforeValidator:
     """Pydantic validator turning a unit string of ``kind`` (a key of DIMENSIONS) into SI."""
 

@@ -150,13 +150,17 @@ class Boundary(DeckModel):
 _BOUNDARY_KIND = TypeAdapter(BoundaryKind)
 
 
+#: what a Mie-Grueneisen body without a library material must give inline
+CUSTOM_MG_REQUIRED = ("density", "c0", "s", "gamma0", "heat_capacity")
+
+
 class Body(DeckModel):
     """One body: a block of one material with its initial state."""
 
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_\-]+$")
     material: Optional[str] = None
     eos: Literal["mie-gruneisen", "ideal-gas"] = "mie-gruneisen"
-    strength: Literal["none", "elastic-perfectly-plastic", "scg"] = "none"
+    strength: Literal["none", "elastic", "elastic-perfectly-plastic", "scg"] = "none"
     yield_stress: Optional[PositivePressure] = None
     shear_modulus: Optional[PositivePressure] = None
     elastic_modulus: Literal["pressure-temperature", "constant"] = "pressure-temperature"
@@ -169,6 +173,12 @@ class Body(DeckModel):
     specific_energy: Optional[SpecificEnergy] = None
     heat_capacity: Optional[PositiveSpecificHeat] = None
     pressure_floor: Optional[Pressure] = None
+    eos_tension: Literal["linear", "cubic"] = "linear"
+    spall: Literal["none", "cutoff", "tuler-butcher"] = "none"
+    spall_strength: Optional[PositivePressure] = None
+    tb_sigma0: Optional[Annotated[Pressure, Field(ge=0.0)]] = None
+    tb_lambda: Optional[Annotated[Dimensionless, Field(gt=0.0)]] = None
+    tb_K: Optional[str] = None  # pressure^lambda x time, converted in hydro.setup once lambda is known
     velocity: tuple[Velocity, Velocity] = (0.0, 0.0)
     radial_velocity: Optional[Velocity] = None
     temperature: Annotated[Temperature, Field(gt=0.0)] = 300.0
@@ -178,7 +188,10 @@ class Body(DeckModel):
     @model_validator(mode="after")
     def _consistent(self):
         if self.eos == "mie-gruneisen" and self.material is None:
-            raise ValueError("a Mie-Grueneisen body needs a library material (material = \"Al6061-T6\", ...)")
+            missing = [k for k in CUSTOM_MG_REQUIRED if getattr(self, k) is None]
+            if missing:
+                raise ValueError("every Mie-Grueneisen property inline when no library material is given; "
+                                 f"missing: {', '.join(missing)} (with units; or give material = \"Al6061-T6\")")
         if self.eos == "ideal-gas":
             missing = [k for k in ("density", "gamma") if getattr(self, k) is None]
             if missing:
@@ -189,6 +202,21 @@ class Body(DeckModel):
                 raise ValueError("an ideal-gas pressure must be positive")
         if self.strength == "scg" and self.material is None:
             raise ValueError("strength = \"scg\" needs a library material")
+        if self.strength == "elastic" and self.material is None and self.shear_modulus is None:
+            raise ValueError("strength = \"elastic\" without a material needs shear_modulus")
+        if self.strength == "elastic" and self.yield_stress is not None:
+            raise ValueError("strength = \"elastic\" has no yield: remove yield_stress (or use "
+                             "\"elastic-perfectly-plastic\")")
+        if self.eos_tension != "linear" and self.eos != "mie-gruneisen":
+            raise ValueError("eos_tension applies to Mie-Grueneisen bodies only")
+        if self.spall != "none" and self.eos != "mie-gruneisen":
+            raise ValueError(f"spall = \"{self.spall}\" needs a Mie-Grueneisen (solid) body")
+        if self.material is None:
+            need = {"cutoff": ("spall_strength",), "tuler-butcher": ("tb_sigma0", "tb_lambda", "tb_K"),
+                    "none": ()}[self.spall]
+            missing = [k for k in need if getattr(self, k) is None]
+            if missing:
+                raise ValueError(f"spall = \"{self.spall}\" without a material needs {', '.join(missing)}")
         if self.strength == "elastic-perfectly-plastic" and self.material is None:
             missing = [k for k in ("yield_stress", "shear_modulus") if getattr(self, k) is None]
             if missing:
@@ -248,7 +276,7 @@ PROBE_QUANTITIES = {
     "x": "m", "y": "m", "vx": "m/s", "vy": "m/s",
     "p": "Pa", "q": "Pa", "sxx": "Pa", "syy": "Pa", "sxy": "Pa", "szz": "Pa",
     "sigma_xx": "Pa", "sigma_yy": "Pa", "sigma_xy": "Pa", "sigma_zz": "Pa",
-    "rho": "kg/m3", "e": "J/kg", "T": "K", "eps_p": "1", "Y": "Pa", "G": "Pa",
+    "rho": "kg/m3", "e": "J/kg", "T": "K", "eps_p": "1", "Y": "Pa", "G": "Pa", "damage": "1",
 }
 NODE_QUANTITIES = ("x", "y", "vx", "vy")
 
@@ -276,7 +304,9 @@ class Probe(DeckModel):
         if self.node is not None and any(q not in NODE_QUANTITIES for q in self.quantities):
             raise ValueError(f"a node probe records only {', '.join(NODE_QUANTITIES)}")
         if self.cell is not None and any(q in NODE_QUANTITIES for q in self.quantities):
-            raise ValueError(f"a cell probe records cell quantities only (not {', '.join(NODE_QUANTITIES)})")
+            bad = [q for q in self.quantities if q in NODE_QUANTITIES]
+            raise ValueError(f"a cell probe records cell quantities only, not {', '.join(bad)}: velocities and "
+                             "positions live on nodes; add a probe with node = [i, j] (or at = [x, y])")
         return self
 
 

@@ -257,7 +257,7 @@ class Simulation:
         update(s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-               self.dvmax, self._dtcell, self._errcell, self.qedge)
+               self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage)
         dtn, bad, code = K.reduce_time_step(self._dtcell, self._errcell)
         if bad >= 0:
             self._fail(bad, code)
@@ -304,7 +304,7 @@ class Simulation:
             "sigma_xy": lambda: s.sxy[i],
             "sigma_zz": lambda: -(s.sxx[i] + s.syy[i]) - s.pressure[i] - s.q[i],
             "rho": lambda: s.rho[i], "e": lambda: s.e[i], "T": lambda: s.temperature[i], "eps_p": lambda: s.eps_p[i],
-            "Y": lambda: s.yield_stress[i], "G": lambda: s.shear_modulus[i],
+            "Y": lambda: s.yield_stress[i], "G": lambda: s.shear_modulus[i], "damage": lambda: s.damage[i],
         }
         return cell[qn]
 

@@ -16,8 +16,10 @@ from shockfriction.hydro.state import State
 from shockfriction.materials.library import SCG_ORDER, get_material
 from shockfriction.mesh.assembly import Mesh
 from shockfriction.mesh.block import Block
+from shockfriction.units import UnitError, pressure_power_time_to_si
 
 IDEAL_GAS_DEFAULT_CV = 718.0  # J/(kg K), air; only used for the reported temperature
+ELASTIC_NO_YIELD = 1e300  # Pa: the flow stress of strength = "elastic" (never reached)
 
 
 @dataclass
@@ -59,8 +61,20 @@ class Problem:
     probes: list[ProbeSpec]
 
 
+def _from_body_or_material(body, mat, field: str, key: str, source: str) -> float:
+    """The body's inline value of ``field``, else the library material's ``key``."""
+    value = getattr(body, field)
+    if value is not None:
+        return value
+    if mat is not None and mat.has(key):
+        return getattr(mat, key)
+    where = f"material {mat.name!r} has no {key}" if mat is not None else "no material is given"
+    raise DeckError(f"{source}: body {body.name!r}: {field} is needed ({where}); give it in the body")
+
+
 def material_row(body, source: str) -> tuple[np.ndarray, np.ndarray]:
-    """Kernel parameter row and isentrope table of one body."""
+    """Kernel parameter row and isentrope table of one body (a library material, overridden by the
+    body's inline values; without a material every property is inline)."""
     row = mp.empty_props(1)[0]
     table = np.zeros(mp.N_TABLE)
     mat = get_material(body.material) if body.material else None
@@ -73,22 +87,18 @@ def material_row(body, source: str) -> tuple[np.ndarray, np.ndarray]:
         row[mp.P_GAMMA] = body.gamma
         row[mp.P_CV] = body.heat_capacity or IDEAL_GAS_DEFAULT_CV
     else:
-        row[mp.P_EOS] = mp.EOS_MIE_GRUNEISEN
-        for col, key, override in ((mp.P_C0, "eos_c0", body.c0), (mp.P_S, "eos_s", body.s),
-                                   (mp.P_GAMMA0, "eos_gamma0", body.gamma0)):
-            if override is not None:
-                row[col] = override
-            elif mat.has(key):
-                row[col] = getattr(mat, key)
-            else:
-                raise DeckError(f"{source}: material {mat.name!r} has no {key}; give it in the body")
-        row[mp.P_RHO0] = body.density if body.density is not None else mat.rho0
+        row[mp.P_EOS] = mp.EOS_MG_CUBIC if body.eos_tension == "cubic" else mp.EOS_MIE_GRUNEISEN
+        for col, key, field in ((mp.P_C0, "eos_c0", "c0"), (mp.P_S, "eos_s", "s"),
+                                (mp.P_GAMMA0, "eos_gamma0", "gamma0"), (mp.P_RHO0, "rho0", "density")):
+            row[col] = _from_body_or_material(body, mat, field, key, source)
         row[mp.P_CV] = body.heat_capacity or mat.heat_capacity
         row[mp.P_MU_LO], row[mp.P_MU_HI], table = isentrope_table(row)
-    if body.strength == "elastic-perfectly-plastic":
+    if body.strength in ("elastic", "elastic-perfectly-plastic"):
         row[mp.P_STRENGTH] = mp.STRENGTH_EPP
-        row[mp.P_G0] = body.shear_modulus if body.shear_modulus is not None else mat.G0
-        row[mp.P_Y0] = body.yield_stress if body.yield_stress is not None else mat.Y0
+        row[mp.P_G0] = _from_body_or_material(body, mat, "shear_modulus", "G0", source)
+        # elastic: no yield (a finite stand-in for infinity, so that Y d_eps = 0 stays 0 in the kernels)
+        row[mp.P_Y0] = ELASTIC_NO_YIELD if body.strength == "elastic" else \
+            _from_body_or_material(body, mat, "yield_stress", "Y0", source)
     elif body.strength == "scg":
         row[mp.P_STRENGTH] = mp.STRENGTH_SCG
         params = mat.scg_params()
@@ -99,6 +109,23 @@ def material_row(body, source: str) -> tuple[np.ndarray, np.ndarray]:
         row[mp.P_SCG:mp.P_SCG + 9] = params
         row[mp.P_G0] = params[SCG_ORDER.index("G0")]
         row[mp.P_G_CONST] = 1.0 if body.elastic_modulus == "constant" else 0.0
+    if body.spall == "cutoff":
+        row[mp.P_SPALL] = mp.SPALL_CUTOFF
+        row[mp.P_PSPALL] = _from_body_or_material(body, mat, "spall_strength", "spall_strength", source)
+    elif body.spall == "tuler-butcher":
+        row[mp.P_SPALL] = mp.SPALL_TULER_BUTCHER
+        row[mp.P_TB_SIGMA0] = _from_body_or_material(body, mat, "tb_sigma0", "tb_sigma0", source)
+        lam = _from_body_or_material(body, mat, "tb_lambda", "tb_lambda", source)
+        row[mp.P_TB_LAMBDA] = lam
+        if body.tb_K is not None:
+            try:
+                row[mp.P_TB_K] = pressure_power_time_to_si(body.tb_K, lam)
+            except UnitError as exc:
+                raise DeckError(f"{source}: bodies.{body.name}.tb_K = {body.tb_K!r}: {exc}") from None
+        else:
+            row[mp.P_TB_K] = _from_body_or_material(body, mat, "tb_K", "tb_K", source)
+        if not row[mp.P_TB_K] > 0.0:
+            raise DeckError(f"{source}: bodies.{body.name}.tb_K: must be positive")
     return row, table
 
 

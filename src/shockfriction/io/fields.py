@@ -5,8 +5,9 @@ of quad meshes.
 Layout of ``fields.h5``: ``/connectivity`` (cells x 4), ``/body`` (cell body
 index), and per output ``/step_NNNNN/`` with node arrays ``x, y, vx, vy``, ``xy``
 (nodes x 2, the XDMF geometry) and cell arrays ``rho, p, q, e, T, eps_p, sxx, syy,
-sxy, szz, Y`` (SI), attribute ``time``.  The HDF5 file is flushed after every output
-and closed on failure; ``fields.xmf`` is rewritten whole (atomically) after every output.
+sxy, szz, Y, damage`` (SI; damage >= 1: failed by spall), attribute ``time``.
+The HDF5 file is flushed after every output and closed on failure; ``fields.xmf`` is
+rewritten whole (atomically) after every output.
 
 ``fields.xmf``: a temporal collection of uniform grids, each with its own Geometry
 ``XY`` (the Lagrangian mesh moves), Topology ``Quadrilateral``, node attributes
@@ -24,7 +25,8 @@ import numpy as np
 from shockfriction.io.atomic import atomic_write_text as write_text_atomic
 
 CELL_FIELDS = {"rho": "rho", "p": "pressure", "q": "q", "e": "e", "T": "temperature", "eps_p": "eps_p",
-               "sxx": "sxx", "syy": "syy", "sxy": "sxy", "Y": "yield_stress"}
+               "sxx": "sxx", "syy": "syy", "sxy": "sxy", "Y": "yield_stress",
+               "damage": "damage"}
 
 
 class FieldWriter:
