@@ -200,6 +200,12 @@ def test_restart_refuses_another_deck(reference, tmp_path):
         run(other, out, restart=True)
     with pytest.raises(DeckError, match="no checkpoint"):
         run(deck, tmp_path / "empty", restart=True)
+    import shutil
+
+    shutil.copytree(out, tmp_path / "no_fields")
+    (tmp_path / "no_fields" / "fields.h5").unlink()
+    with pytest.raises(DeckError, match="fields.h5"):
+        run(deck, tmp_path / "no_fields", restart=True)
     longer = tmp_path / "longer.toml"  # the end time may change
     longer.write_text(DECK.format(end="0.7 us"))
     res = run(longer, out, restart=True)

@@ -28,6 +28,7 @@ import time
 import warnings
 from pathlib import Path
 
+from shockfriction.errors import DeckError
 from shockfriction.io.atomic import atomic_write_json
 from shockfriction.io.checkpoint import load_checkpoint, save_checkpoint
 
@@ -67,9 +68,16 @@ class RunOutputs:
             warnings.warn(f"restart with {sim.threads} threads from a checkpoint taken with {info['threads']}: "
                           "the continuation is bit for bit only with the same thread count", stacklevel=2)
         energy_header, probe_header = headers
+        keep = tuple(info["fields"]) if info.get("fields") else None
+        try:
+            self.fields = FieldWriter.from_output(self.out, sim, keep=keep)
+        except (OSError, KeyError) as exc:  # restart: fields.h5 missing, damaged or from another run
+            if keep is None:
+                raise
+            raise DeckError(f"--restart: {self.out / 'fields.h5'} does not hold the field outputs the checkpoint "
+                            f"counts ({exc}); this run cannot be continued: rerun it from the start") from None
         self.energy_csv = CsvHistory(self.out / "energy.csv", energy_header, resume_at=info.get("energy_csv"))
         self.probes_csv = CsvHistory(self.out / "probes.csv", probe_header, resume_at=info.get("probes_csv"))
-        self.fields = FieldWriter.from_output(self.out, sim, keep=tuple(info["fields"]) if info.get("fields") else None)
         lines = interface_lines(sim)
         self.records = RecordWriter(self.out, lines, sim.state.geometry_factor) if lines else None
         self._lines = lines
