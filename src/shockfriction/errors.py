@@ -2,7 +2,8 @@
 
 EXIT_CODES = ("Exit status: 0 done; 1 finished with failures (sweep runs failed or pending, fit not converged); "
               "2 deck or usage error (the message names field, value and expectation); "
-              "3 run failure (the message says where and when); 130 interrupted (Ctrl-C).")
+              "3 run failure (the message says where and when); 130 interrupted (Ctrl-C); "
+              "143 stopped by SIGTERM (run: outputs finished and a checkpoint written, continue with --restart).")
 
 
 class ShockfrictionError(Exception):

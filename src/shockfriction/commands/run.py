@@ -22,20 +22,31 @@ def register(app: typer.Typer) -> None:
                                    help="reuse a non-empty OUT: delete its previous shockfriction outputs first"),
         verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
         quiet: bool = typer.Option(False, "--quiet", "-q", help="no progress bar; log errors only"),
+        restart: bool = typer.Option(False, "--restart",
+                                     help="continue from OUT/checkpoint.h5 (same deck), appending to OUT's outputs"),
     ) -> None:
-        """Run a deck: probes.csv, energy.csv, fields.h5/.xmf and summary.json in OUT."""
+        """Run a deck: probes.csv, energy.csv, fields.h5/.xmf and summary.json in OUT.
+
+        SIGTERM or Ctrl-C stops at the end of the cycle, writes a checkpoint and finishes every output
+        (exit status 143 or 130); continue with --restart."""
         from rich.console import Console
 
         from shockfriction.hydro.api import prepare, run_simulation
         from shockfriction.io.outdir import check_out_path, check_threads, prepare_out_dir
+        from shockfriction.io.session import RunInterrupted
         from shockfriction.log import configure_logging, verbosity
 
         configure_logging(verbosity(verbose, quiet))
         check_threads(threads)
         check_out_path(out)
         sim = prepare(deck, threads=threads)
-        prepare_out_dir(out, force=force, restart=False)
-        res = run_simulation(sim, out, progress=not quiet)
+        prepare_out_dir(out, force=force, restart=restart)
+        try:
+            res = run_simulation(sim, out, progress=not quiet, restart=restart, signals=True)
+        except RunInterrupted as exc:
+            Console(stderr=True).print(f"[yellow]{exc}; outputs and checkpoint written in {out} "
+                                       "(continue with --restart)[/]", highlight=False)
+            raise typer.Exit(exc.exit_code) from None
         s = res.summary
         if not s["completed"]:
             logging.getLogger(__name__).warning("stopped at max_cycles = %d before the end time", s["cycles"])

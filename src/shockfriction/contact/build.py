@@ -178,29 +178,34 @@ def build_interfaces(entries, simulation) -> list[SlideLineInterface]:
     return out
 
 
-def write_interface_outputs(simulation, out_dir) -> list:
-    """Close the slide lines' last record windows; write ``interface.h5`` and the maps in ``out_dir``.
+def interface_lines(simulation) -> list:
+    """The simulation's slide lines (the :class:`SlideLine` of each registered adapter)."""
+    return [obj.line for obj in simulation.interfaces if isinstance(obj, SlideLineInterface)]
 
-    Does nothing when the simulation has no slide line.  Returns the paths written.
+
+def write_interface_outputs(simulation, out_dir, writer=None) -> list:
+    """Close the slide lines' last record windows; finish ``interface.h5`` (and ``columns.h5``) and
+    draw the maps in ``out_dir``.  ``writer``: the run's :class:`~shockfriction.io.records.RecordWriter`
+    (one is made when None).  Does nothing when the simulation has no slide line.  Returns the paths written.
     """
-    from pathlib import Path
-
-    from shockfriction.io.interface import read_interface, write_interface
+    from shockfriction.io.interface import read_interface
+    from shockfriction.io.records import RecordWriter
     from shockfriction.plot.interface import plot_interface
 
-    lines = [obj for obj in simulation.interfaces if isinstance(obj, SlideLineInterface)]
+    lines = interface_lines(simulation)
     if not lines:
         return []
-    for obj in lines:
-        obj.finish(simulation.state)
-    attrs = {obj.name: {"law": obj.line.law, "bilateral": int(obj.line.bilateral),
-                        "heat_share_slave": -1.0 if obj.line.heat_share_slave is None else obj.line.heat_share_slave,
-                        "axisymmetric": int(obj.line.axisymmetric)} for obj in lines}
-    h5 = write_interface(Path(out_dir) / "interface.h5", [obj.line for obj in lines], attrs)
+    for obj in simulation.interfaces:
+        if isinstance(obj, SlideLineInterface):
+            obj.finish(simulation.state)
+    if writer is None:
+        writer = RecordWriter(out_dir, lines, simulation.state.geometry_factor)
+    writer.close()
+    h5 = writer.interface_path
     written = [h5] + plot_interface(read_interface(h5), out_dir)
-    coupled = [obj.line for obj in lines if obj.line.friction_model is not None]
-    if coupled:  # sub-grid friction: columns.h5, extra interface datasets and maps (shockfriction.coupled)
-        from shockfriction.coupled.outputs import write_subgrid_outputs
+    if writer.columns_path is not None:  # sub-grid friction: temperature map and column profiles
+        from shockfriction.plot.coupled import plot_columns, plot_subgrid_interface
 
-        written += write_subgrid_outputs(coupled, h5, out_dir, simulation.state.geometry_factor)
+        written += [writer.columns_path] + plot_subgrid_interface(h5, out_dir)
+        written += plot_columns(writer.columns_path, out_dir)
     return written

@@ -1,4 +1,5 @@
-"""Outputs of sub-grid friction: extra datasets in ``interface.h5``, ``columns.h5`` and the maps.
+"""Outputs of sub-grid friction: extra datasets in ``interface.h5``, ``columns.h5`` and the maps
+(written during the run by :class:`~shockfriction.io.records.RecordWriter`).
 
 Datasets added to the slide line's group of ``interface.h5`` (record times of the slide line):
 
@@ -14,44 +15,7 @@ Datasets added to the slide line's group of ``interface.h5`` (record times of th
 Energies are per unit depth (plane strain) or per radian (axisymmetric), like ``friction_work_J``.
 """
 
-from __future__ import annotations
 
-from pathlib import Path
-
-import h5py
-
-from shockfriction.coupled.friction import ENERGY_KEYS
-from shockfriction.io.columns import write_columns
-
-
-def write_subgrid_outputs(lines: list, interface_h5: str | Path, out_dir: str | Path,
-                          geometry_factor: float = 1.0) -> list[Path]:
-    """Append the sub-grid records to ``interface_h5``; write ``columns.h5`` and the PNG maps."""
-    from shockfriction.plot.coupled import plot_columns, plot_subgrid_interface
-
-    out_dir = Path(out_dir)
-    with h5py.File(interface_h5, "a") as h5:
-        for line in lines:
-            fm = line.friction_model
-            rec = fm.records()
-            grp = h5[line.name]
-            grp.create_dataset("theta_interface_K", data=rec["theta_interface"])
-            grp.create_dataset("slip_local_mps", data=rec["slip_local"])
-            grp.create_dataset("slip_plastic_mps", data=rec["slip_plastic"])
-            grp.create_dataset("slip_macro_subgrid_mps", data=rec["slip_macro"])
-            for key in ENERGY_KEYS + ("friction_work_hydro",):
-                grp.create_dataset(f"subgrid_{key}_J", data=rec[key])
-            sg = fm.columns
-            attrs = {"subgrid_model": fm.model, "subgrid_material": sg.material.name, "subgrid_body": fm.modelled_body,
-                     "beta_T": sg.beta_T, "beta_Q": sg.beta_Q, "mu0": sg.mu0, "f": sg.f,
-                     "column_thickness_m": float(sg.z[-1]), "column_cells": sg.z.size - 1,
-                     "melting_temperature_K": sg.material.melting_temperature, "geometry_factor": geometry_factor}
-            for key, value in attrs.items():
-                grp.attrs[key] = value
-            for key, value in fm.energy_balance().items():
-                grp.attrs[f"total_{key}_J"] = value
-    columns = write_columns(out_dir / "columns.h5", lines)
-    written = [columns]
-    written += plot_subgrid_interface(interface_h5, out_dir)
-    written += plot_columns(columns, out_dir)
-    return written
+# record of the sub-grid friction model -> dataset of the slide line's group in interface.h5
+SUBGRID_DATASETS = {"theta_interface": "theta_interface_K", "slip_local": "slip_local_mps",
+                    "slip_plastic": "slip_plastic_mps", "slip_macro": "slip_macro_subgrid_mps"}

@@ -262,6 +262,8 @@ class Output(DeckModel):
     field_interval: Optional[PositiveTime] = None
     field_times: list[PositiveTime] = Field(default_factory=list)
     probe_every: int = Field(default=1, ge=1)
+    # write the full state to checkpoint.h5 every interval (restart: ``shockfriction run --restart``)
+    checkpoint_interval: Optional[PositiveTime] = None
 
 
 class Tie(DeckModel):

@@ -17,9 +17,7 @@ interfaces, change the initial state, or step by hand).
 
 from __future__ import annotations
 
-import json
 import logging
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
@@ -155,79 +153,62 @@ def summarize(sim: Simulation) -> dict[str, Any]:
 
 
 def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress: bool = False,
-                   on_progress: Callable[[float], None] | None = None) -> Result:
-    """Run a prepared simulation, writing ``probes.csv``, ``energy.csv``, fields and
-    ``summary.json`` into ``out_dir`` when given (files stay readable on failure)."""
-    from shockfriction.io.fields import FieldWriter
-    from shockfriction.io.histories import CsvHistory
+                   on_progress: Callable[[float], None] | None = None, restart: bool = False,
+                   signals: bool = False) -> Result:
+    """Run a prepared simulation, writing ``probes.csv``, ``energy.csv``, fields, slide-line records
+    and ``summary.json`` into ``out_dir`` when given, complete at every output time
+    (:class:`~shockfriction.io.session.RunOutputs`); ``restart``: continue from ``out_dir``'s checkpoint;
+    ``signals``: SIGTERM/SIGINT stop at the end of a cycle with a checkpoint (raises
+    :class:`~shockfriction.io.session.RunInterrupted`)."""
+    outputs = None
+    if out_dir is not None:
+        from shockfriction.io.session import RunOutputs
 
-    out = Path(out_dir) if out_dir is not None else None
-    sim.out_dir = out
-    log.info("%d zones, %d nodes, end time %.4g s, %d thread(s), outputs in %s",
-             sim.state.n_cells, sim.state.n_nodes, sim.t_end, sim.threads, out or "(none)")
-    writers = []
-    fields = None
-    if out is not None:
-        out.mkdir(parents=True, exist_ok=True)
-        energy_csv = CsvHistory(out / "energy.csv", energy_header(sim.state.axisymmetric))
-        probes_csv = CsvHistory(out / "probes.csv", probe_header(sim))
-        writers = [energy_csv, probes_csv]
-
-        def stream(s: Simulation) -> None:
-            energy_csv.write(s.energy_rows[-1])
-            if s.probe_rows:
-                probes_csv.write(s.probe_rows[-1])
-
-        sim.observers.append(stream)
-        fields = FieldWriter.from_output(out, sim)
-        if fields is not None:
-            sim.observers.append(fields.maybe_write)
+        outputs = RunOutputs(sim, out_dir, restart=restart, summarize=summarize,
+                             headers=(energy_header(sim.state.axisymmetric), probe_header(sim)), signals=signals)
+    elif restart:
+        raise ValueError("restart needs the output folder that holds the checkpoint")
+    log.info("%d zones, %d nodes, end time %.4g s, %d thread(s), outputs in %s%s",
+             sim.state.n_cells, sim.state.n_nodes, sim.t_end, sim.threads, out_dir or "(none)",
+             f" (restart from t = {sim.state.t:.4g} s)" if restart else "")
     bar = None
     if progress:
         from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
         bar = Progress(TextColumn("[bold]run[/]"), BarColumn(), TextColumn("{task.percentage:>5.1f}%"),
                        TextColumn("t = {task.fields[t]:.3e} s"), TimeRemainingColumn())
-        task = bar.add_task("run", total=sim.t_end, t=0.0)
+        task = bar.add_task("run", total=sim.t_end, t=sim.state.t)
         bar.start()
 
         def on_progress(t, _prev=on_progress):  # noqa: F811
             bar.update(task, completed=t, t=t)
             if _prev is not None:
                 _prev(t)
-    started = time.perf_counter()
+    error = None
     try:
         sim.run(progress=on_progress)
+    except BaseException as exc:
+        error = exc
+        raise
     finally:
         if bar is not None:
             bar.stop()
-        for w in writers:
-            w.close()
-        if fields is not None:
-            fields.close(sim)
-        if out is not None:
-            from shockfriction.contact.build import write_interface_outputs
-
-            write_interface_outputs(sim, out)  # slide-line records: interface.h5 + maps
-            from shockfriction.io.tables import write_record_tables
-
-            write_record_tables(out)  # interface.csv, columns.csv
-            summary = summarize(sim)
-            summary["completed"] = sim.state.t >= sim.t_end * (1 - 1e-12)
-            summary["total_wall_time_s"] = time.perf_counter() - started
-            (out / "summary.json").write_text(json.dumps(summary, indent=2))
+        if outputs is not None:
+            outputs.finish(error)
     summary = summarize(sim)
     summary["completed"] = sim.state.t >= sim.t_end * (1 - 1e-12)
-    return Result(sim.probe_history(), sim.energy_history(), sim.state, sim.mesh, summary, out, sim)
+    return Result(sim.probe_history(), sim.energy_history(), sim.state, sim.mesh, summary,
+                  Path(out_dir) if out_dir is not None else None, sim)
 
 
 def run(deck_or_path, out_dir: str | Path | None = None, progress: bool = False,
-        threads: int | None = None) -> Result:
-    """Load, build and run a deck (TOML path, dict or RunDeck)."""
-    return run_simulation(prepare(deck_or_path, threads=threads), out_dir, progress)
+        threads: int | None = None, restart: bool = False) -> Result:
+    """Load, build and run a deck (TOML path, dict or RunDeck); ``restart``: continue from the
+    checkpoint in ``out_dir`` (docs/theory/outputs-and-restart.md)."""
+    return run_simulation(prepare(deck_or_path, threads=threads), out_dir, progress, restart=restart)
 
 
 def run_dict(deck_dict: dict, out_dir: str | Path | None = None, progress: bool = False,
-             threads: int | None = None) -> Result:
+             threads: int | None = None, restart: bool = False) -> Result:
     """Run a deck given as a dict (unit strings as in TOML), e.g. from a sweep."""
-    return run(load(deck_dict, "deck"), out_dir, progress, threads)
+    return run(load(deck_dict, "deck"), out_dir, progress, threads, restart)

@@ -116,6 +116,8 @@ class Simulation:
         self.probe_every = deck.output.probe_every
         self._getters = [self._probe_getter(q, p.index) for p in problem.probes for q in p.quantities]
         self.observers: list[Callable[["Simulation"], None]] = []
+        # called by run() between cycles (state at t^n, nothing half-updated): output writers, checkpoints
+        self.between_cycles: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
         for obj in interfaces or []:
             self.register_interface(obj)
@@ -322,6 +324,8 @@ class Simulation:
         try:
             while s.t < self.t_end * (1.0 - 1e-12) and s.cycle < self.max_cycles:
                 self.step()
+                for hook in self.between_cycles:
+                    hook(self)
                 if progress is not None and s.cycle % 50 == 0:
                     progress(s.t)
             self.record_final()

@@ -1,4 +1,5 @@
-"""Sub-grid column profiles to ``columns.h5``: T(z) and eps_p(z) under chosen slide-line nodes.
+"""Sub-grid column profiles in ``columns.h5``: T(z) and eps_p(z) under chosen slide-line nodes
+(written during the run by :class:`~shockfriction.io.records.RecordWriter`).
 
 One HDF5 group per slide line with sub-grid friction:
 
@@ -20,29 +21,6 @@ from pathlib import Path
 
 import h5py
 import numpy as np
-
-
-def write_columns(path: str | Path, lines: list) -> Path:
-    """Write the profiles of the slide lines ``lines`` (each with a ``friction_model``)."""
-    path = Path(path)
-    with h5py.File(path, "w") as h5:
-        for line in lines:
-            fm = line.friction_model
-            grp = h5.create_group(line.name)
-            nz = fm.columns.z.size
-            nn = fm.profile_nodes.size
-            grp.create_dataset("z_m", data=fm.columns.z)
-            grp.create_dataset("node", data=fm.profile_nodes)
-            grp.create_dataset("node_index", data=line.slave[fm.profile_nodes])
-            grp.create_dataset("t_s", data=np.array(fm.profile_t, float))
-            grp.create_dataset("theta_K", data=np.array(fm.profile_theta, float).reshape(-1, nn, nz))
-            grp.create_dataset("eps_p", data=np.array(fm.profile_eps, float).reshape(-1, nn, nz))
-            grp.attrs["model"] = fm.model
-            grp.attrs["material"] = fm.columns.material.name
-            grp.attrs["body"] = fm.modelled_body
-            grp.attrs["beta_T"] = fm.columns.beta_T
-            grp.attrs["melting_temperature_K"] = fm.columns.material.melting_temperature
-    return path
 
 
 def read_columns(path: str | Path) -> dict[str, dict[str, np.ndarray]]:

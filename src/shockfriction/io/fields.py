@@ -17,12 +17,12 @@ the first output (its points) and every output's attributes (``x, y`` give the m
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import h5py
 import numpy as np
+
+from shockfriction.io.atomic import atomic_write_text as write_text_atomic
 
 CELL_FIELDS = {"rho": "rho", "p": "pressure", "q": "q", "e": "e", "T": "temperature", "eps_p": "eps_p",
                "sxx": "sxx", "syy": "syy", "sxy": "sxy", "Y": "yield_stress",
@@ -32,26 +32,49 @@ CELL_FIELDS = {"rho": "rho", "p": "pressure", "q": "q", "e": "e", "T": "temperat
 class FieldWriter:
     """Writes the state when the time passes the next output time."""
 
-    def __init__(self, out_dir: Path, times: list[float], conn: np.ndarray, body: np.ndarray, body_names):
+    def __init__(self, out_dir: Path, times: list[float], conn: np.ndarray, body: np.ndarray, body_names,
+                 keep: tuple[int, int] | None = None):
         self.out_dir = Path(out_dir)
         self.times = sorted(times)
         self._next = 0
+        self._written: list[tuple[int, float]] = []
+        self._n_nodes = None
+        if keep is not None:  # restart: (outputs kept, next output time index) from the checkpoint
+            self._resume(*keep)
+            return
         self._h5 = h5py.File(self.out_dir / "fields.h5", "w")
         self._h5.create_dataset("connectivity", data=conn.astype(np.int64))
         self._h5.create_dataset("body", data=body.astype(np.int64))
         self._h5.attrs["bodies"] = ",".join(body_names)
-        self._written: list[tuple[int, float]] = []
-        self._n_nodes = None
+
+    def _resume(self, n_kept: int, next_index: int) -> None:
+        """Reopen ``fields.h5``, keep its first ``n_kept`` outputs, drop later ones (restart)."""
+        self._h5 = h5py.File(self.out_dir / "fields.h5", "a")
+        for name in [n for n in self._h5 if n.startswith("step_") and int(n[5:]) >= n_kept]:
+            del self._h5[name]
+        for k in range(n_kept):
+            g = self._h5[f"step_{k:05d}"]
+            self._written.append((k, float(g.attrs["time"])))
+            self._n_nodes = g["x"].shape[0]
+        self._next = next_index
+        self._h5.flush()
+        if self._written:
+            self._write_xdmf(self._h5["connectivity"].shape[0])
+
+    @property
+    def position(self) -> tuple[int, int]:
+        """(outputs written, next output time index): what a checkpoint keeps for a restart."""
+        return len(self._written), self._next
 
     @classmethod
-    def from_output(cls, out_dir: Path, sim) -> "FieldWriter | None":
+    def from_output(cls, out_dir: Path, sim, keep: tuple[int, int] | None = None) -> "FieldWriter | None":
         out = sim.problem.deck.output
         times = list(out.field_times)
         if out.field_interval is not None:
             times += list(np.arange(0.0, sim.t_end * (1 + 1e-9), out.field_interval))
         if not times:
             return None
-        return cls(out_dir, times, sim.state.conn, sim.mesh.cell_body, sim.mesh.names)
+        return cls(out_dir, times, sim.state.conn, sim.mesh.cell_body, sim.mesh.names, keep)
 
     def maybe_write(self, sim) -> None:
         s = sim.state
@@ -91,20 +114,6 @@ class FieldWriter:
             self.write(sim)
         if self._h5.id.valid:
             self._h5.close()
-
-
-def write_text_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and ``os.replace`` (a reader never
-    sees a half-written file)."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def _item(h5: str, path: str, dims: str, kind: str = "Float") -> str:

@@ -1,4 +1,5 @@
-"""Slide-line records to ``interface.h5``: one HDF5 group per slide line.
+"""Slide-line records in ``interface.h5``: one HDF5 group per slide line (written during the run by
+:class:`~shockfriction.io.records.RecordWriter`).
 
 Datasets of group ``/<slide line name>`` (SI, shape (n_times, n_slave_nodes) unless noted):
 
@@ -29,24 +30,6 @@ DATASETS = {
     "t": "t_s", "x": "node_x_m", "y": "node_y_m", "sigma_n": "sigma_n_Pa", "tau": "tau_Pa",
     "slip": "slip_mps", "cum_slip": "cum_slip_m", "work": "friction_work_J", "active": "active",
 }
-
-
-def write_interface(path: str | Path, lines: list, attrs: dict[str, dict] | None = None) -> Path:
-    """Write the records of ``lines`` (objects with ``.name``, ``.record``, ``.total_friction_work``)."""
-    path = Path(path)
-    with h5py.File(path, "w") as h5:
-        for line in lines:
-            grp = h5.create_group(line.name)
-            data = line.record.arrays()
-            for key, name in DATASETS.items():
-                arr = data[key].astype(np.int8) if key == "active" else data[key]
-                grp.create_dataset(name, data=arr)
-            grp.create_dataset("node_index", data=line.record.slave_nodes)
-            grp.attrs["total_friction_work_J"] = float(line.total_friction_work)
-            grp.attrs["total_contact_loss_J"] = float(line.total_contact_loss)
-            for k, v in (attrs or {}).get(line.name, {}).items():
-                grp.attrs[k] = v
-    return path
 
 
 def read_interface(path: str | Path) -> dict[str, dict[str, np.ndarray]]:
