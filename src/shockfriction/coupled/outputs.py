@@ -8,8 +8,12 @@ Datasets added to the slide line's group of ``interface.h5`` (record times of th
 ``slip_plastic_mps``           slip taken by the layer's plastic shear, sqrt(3) int d_eps dz/dt
 ``slip_macro_subgrid_mps``     the columns' |[V]^n| = |[V]^{n+1/2} + [V]^{n-1/2}|/2, window-averaged
 ``subgrid_<energy>_J``         cumulated energies (n_times,): friction_work_columns, heat_columns,
-                               heat_other, cold_work, plastic_heat_pending, friction_work_hydro
+                               heat_other, cold_work, plastic_heat_pending, melt_energy,
+                               friction_work_hydro
 =============================  =====================================================================
+
+Group attributes ``branch_<coulomb_cap|sticking_cap|subgrid>_node_steps``: how many friction
+node-steps (in contact, with free slip) each term of tau = min(mu0 F_N, tau_stick, sub-grid) governed.
 
 Energies are per unit depth (plane strain) or per radian (axisymmetric), like ``friction_work_J``.
 """
@@ -50,6 +54,8 @@ def write_subgrid_outputs(lines: list, interface_h5: str | Path, out_dir: str | 
                 grp.attrs[key] = value
             for key, value in fm.energy_balance().items():
                 grp.attrs[f"total_{key}_J"] = value
+            for key, value in fm.branch_counts.items():  # friction node-steps governed by each branch
+                grp.attrs[f"branch_{key}_node_steps"] = value
     columns = write_columns(out_dir / "columns.h5", lines)
     written = [columns]
     written += plot_subgrid_interface(interface_h5, out_dir)
