@@ -61,7 +61,7 @@ def test_strain_target_does_not_overflow_when_a_subsurface_node_nears_melting():
     deps = np.zeros(nn)
     hard = np.ones(nn)
     dt, v = 1e-9, 200.0
-    r, tau, vh, v_loc, rate = _evaluate(900.0, theta_ad, unit, w, unit[0], np.zeros(nn), hard, theta_ad.max(),
+    r, tau, _vh, v_loc, rate = _evaluate(900.0, theta_ad, unit, w, unit[0], np.zeros(nn), hard, theta_ad.max(),
                                         unit.max(), 10e9, v, v, 0.0, 3e9, 0.677, 0.7, p, dt, deps, -1, math.inf)
     assert tau > 1e8 and np.all(np.isfinite(deps)) and math.isfinite(r)
     assert rate == pytest.approx(v, rel=1e-12) and v_loc == 0.0      # kinematic limit: the layer takes the slip
@@ -100,7 +100,7 @@ def test_uncoupled_driver_f07_h10_runs_through(tmp_path):
 
 
 def test_the_pure_step_on_1ns_f07_h10_now_runs_through():
-    sg, tau, worst = _ball(0.7, 10e-6, 400)
+    sg, _tau, worst = _ball(0.7, 10e-6, 400)
     assert sg.melt_energy[0] > 0.0 and worst < 1e-12
 
 
@@ -109,7 +109,7 @@ def test_a_non_finite_state_fails_in_the_step_that_made_it(monkeypatch):
 
     def broken(*args):
         orig(*args)
-        args[14][0] = math.nan  # the tau output
+        args[13][0] = math.nan  # the tau output
 
     monkeypatch.setattr(interface_mod, "solve_thermoelastic", broken)
     sg = SubgridInterface(2, AL, ST, model="thermoelastic", mu0=0.3, f=0.3)
@@ -127,7 +127,7 @@ H_PIN = {10e-6: (1147.6927, 305.6066), 20e-6: (764.7171, 374.6995), 40e-6: (543.
 @pytest.mark.parametrize("h", sorted(H_PIN))
 def test_h_dependence_at_f07_is_measured_and_pinned(h):
     T_pin, tau_pin = H_PIN[h]
-    sg, tau, worst = _ball(0.7, h, 300)
+    sg, tau, _worst = _ball(0.7, h, 300)
     print(f"\nf = 0.7, h = {h * 1e6:g} um, 0.3 us: Theta(0) = {sg.theta_interface[0]:.4f} K, tau = {tau / 1e6:.4f} MPa")
     assert sg.theta_interface[0] == pytest.approx(T_pin, abs=2e-4)
     assert tau / 1e6 == pytest.approx(tau_pin, abs=2e-4)
