@@ -168,6 +168,7 @@ def check(results: dict, models=None) -> list[dict]:
         holds = spread < F_TOL
         model_s = vs_c >= F_TOL
         out.append({
+            "id": "f_insensitive_mu0_0.02",
             "finding": "mu0 = 0.02: the cone free-surface velocity barely depends on f",
             "holds": holds, "holds_interior": holds, "attributable_to_model": model_s,
             "verdict": (f"holds, but because the caps govern {min(caps):.2%}-{max(caps):.2%} of the friction node-steps: "
@@ -183,6 +184,7 @@ def check(results: dict, models=None) -> list[dict]:
         a, c = results[ctl], results["coulomb_mu0.3"]
         dev = _max_dev(c, a)
         out.append({
+            "id": "control_subgrid_branch",
             "finding": "control (not in the thesis): where the sub-grid branch governs, the model departs from Coulomb",
             "holds": dev >= F_TOL, "holds_interior": dev >= F_TOL, "attributable_to_model": dev >= F_TOL,
             "verdict": (f"mu0 = 0.3, f = 0.3: the sub-grid branch governs {a['branch_subgrid_frac']:.0%} of the node-steps "
@@ -204,6 +206,7 @@ def check(results: dict, models=None) -> list[dict]:
         dev99 = abs(a["slip_p99_interior_mps"] - c["slip_p99_interior_mps"]) / c["slip_p99_interior_mps"]
         model_s = holds_i and max(dev, dev99) >= F_TOL
         out.append({
+            "id": "peak_slip_vs_modified_coulomb",
             "finding": "mu0 = 0.3, f = 0.7: the peak slip is lower than with the modified Coulomb law",
             "holds": holds, "holds_interior": holds_i, "attributable_to_model": model_s,
             "verdict": ((("holds on the interior nodes" if holds_i else "does not hold on the interior nodes")
@@ -219,6 +222,7 @@ def check(results: dict, models=None) -> list[dict]:
         holds = a["nodes_at_melt"] >= 1
         holds_i = a["nodes_at_melt_interior"] >= 1
         out.append({
+            "id": "melting",
             "finding": "mu0 = 0.3, f = 0.7: some interface nodes reach the Al melting temperature",
             "holds": holds, "holds_interior": holds_i, "attributable_to_model": holds_i,
             "verdict": (f"{'holds' if holds_i else 'does not hold'} on the interior nodes (max "
@@ -241,6 +245,7 @@ def check(results: dict, models=None) -> list[dict]:
         holds = diff < MODEL_TOL
         model_s = max(da, db) >= MODEL_TOL
         out.append({
+            "id": f"{model}_vs_{ref}",
             "finding": f"{model} and {ref} free-surface velocities nearly coincide (mu0 = 0.3, f = 0.7)",
             "holds": holds, "holds_interior": holds, "attributable_to_model": model_s,
             "verdict": (f"holds, but both are within {max(da, db):.2%} of plain Coulomb 0.3 (caps govern "
@@ -261,8 +266,8 @@ def markdown(findings: list[dict], results: dict) -> str:
     for f in findings:
         lines.append(f"| {f['finding']} | {yn[f['holds']]} | {yn[f['holds_interior']]} | "
                      f"{yn[f['attributable_to_model']]} | {f['verdict']} |")
-    lines += ["", "| run | Coulomb cap | sticking cap | sub-grid | peak cone fs (m/s) | peak slip all / interior (m/s) "
-              "| max T all / interior (K) |", "|---|---|---|---|---|---|---|"]
+    lines += ["", ("| run | Coulomb cap | sticking cap | sub-grid | peak cone fs (m/s) | peak slip all / interior (m/s) "
+                   "| max T all / interior (K) |"), "|---|---|---|---|---|---|---|"]
     for name, r in results.items():
         br = " | ".join(f"{r[f'branch_{b}_frac']:.1%}" if f"branch_{b}_frac" in r else "-" for b in BRANCHES)
         tt = (f"{r['max_interface_T_K']:.0f} / {r['max_interface_T_interior_K']:.0f}"
@@ -352,7 +357,7 @@ def main(argv=None) -> int:
         for name, fut in futures.items():
             try:
                 results[name] = fut.result()
-            except Exception as exc:  # a run that went bad: report it, judge the rest
+            except Exception as exc:  # noqa: BLE001 -- a run that went bad: report it, judge the rest
                 failed.append(name)
                 print(f"{name:>20}: FAILED: {exc}", flush=True)
                 continue
