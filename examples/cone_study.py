@@ -37,6 +37,8 @@ from pathlib import Path
 
 import numpy as np
 
+from shockfriction.friction.subgrid.interface import MELT_MARGIN
+
 # the sub-grid models of the study, in one place (the first is the reference, run over the full mu0 x f grid)
 MODELS = ["thermoelastic", "thermoelastoplastic"]
 TAGS = {"thermoelastic": "te", "thermoelastoplastic": "tep"}
@@ -46,7 +48,7 @@ COMPARE_POINTS = [(0.3, 0.7)]          # (mu0, f) where every model is run
 COULOMB_MU0 = (0.02, 0.3)              # plain-Coulomb baselines
 EXCLUDE_MM = 1.0                        # interior nodes: farther than this from the cone-base corner (a priori)
 BASE_CORNER_MM = (10.0, 0.0)            # (r, z) of the cone-base corner in cone_deck's default geometry
-MELT_MARGIN_K = 1.0                     # "at melting": within the melt guard's margin of T_F
+MELT_MARGIN_K = MELT_MARGIN             # "at melting": within the melt guard's margin (1 K) of T_F
 F_TOL = 0.02                            # "barely depends": spread below 2 % of the peak (thesis finding 1)
 MODEL_TOL = 0.03                        # "nearly coincide": 3 % of the peak (finding 4)
 BRANCHES = ("coulomb_cap", "sticking_cap", "subgrid")
