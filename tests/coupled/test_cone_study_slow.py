@@ -1,6 +1,13 @@
-"""The thesis's findings on the cone shot (examples/cone_study.py, thermoelastic model over mu0 x f, modified
-Coulomb, thermoelastoplastic), at the thesis's 100 um cells: 19 runs, about 5-10 min on 2 cores."""
+"""The thesis's findings on the cone shot, judged honestly (examples/cone_study.py, docs/theory/cone-study.md):
+20 runs at the thesis's 100 um cells (thermoelastic over mu0 x f, thermoelastoplastic at (0.3, 0.7), plain Coulomb
+0.02 and 0.3, modified Coulomb), about 10-25 min on 2 cores.
 
+Each finding is asserted against the plain-Coulomb baseline, on all nodes and on the interior nodes (more than 1 mm
+from the cone-base corner), with melting judged at T_F = 1220 K.  Measured 2026-11-23 (the asserted verdicts):
+the three findings that hold are not the sub-grid model's (the caps govern 98.6-100 % of the friction node-steps);
+the melting finding does not hold; the model departs from Coulomb only where its SCG branch governs (f = 0.3)."""
+
+import csv
 import json
 import os
 import subprocess
@@ -14,14 +21,43 @@ STUDY = ROOT / "examples" / "cone_study.py"
 
 
 @pytest.mark.slow
-def test_cone_study_reproduces_the_thesis_findings(tmp_path):
+def test_cone_study_findings_judged_against_plain_coulomb(tmp_path):
     env = dict(os.environ)
     env["PYTHONPATH"] = str(ROOT / "src") + os.pathsep + env.get("PYTHONPATH", "")
     proc = subprocess.run([sys.executable, str(STUDY), "--cell-um", "100", "--workers", "2", "--out", str(tmp_path)],
-                          env=env, capture_output=True, text=True, timeout=3600)
-    print(proc.stdout[-3000:], proc.stderr[-3000:])
-    findings = json.loads((tmp_path / "findings.json").read_text())
-    for f in findings:
-        print(f["finding"], "->", f["numbers"])
+                          env=env, capture_output=True, text=True, timeout=3600, check=False)
+    print(proc.stdout[-4000:], proc.stderr[-3000:])
     assert proc.returncode == 0
-    assert len(findings) == 4 and all(f["reproduced"] for f in findings)
+    findings = {f["id"]: f for f in json.loads((tmp_path / "findings.json").read_text())}
+    rows = {r["name"]: r for r in csv.DictReader((tmp_path / "study.csv").open())}
+    assert (tmp_path / "findings.md").exists()
+    f1, f2, f3 = findings["f_insensitive_mu0_0.02"], findings["peak_slip_vs_modified_coulomb"], findings["melting"]
+    f4, ctl = findings["thermoelastoplastic_vs_thermoelastic"], findings["control_subgrid_branch"]
+
+    # 1. f barely matters at mu0 = 0.02 -- because the Coulomb cap governs; plain Coulomb 0.02 gives the same
+    n = f1["numbers"]
+    assert f1["holds"] and not f1["attributable_to_model"]
+    assert n["spread_over_f"] < 5e-4 and n["max_dev_from_coulomb_0.02"] < 5e-4 and n["cap_fraction_min"] > 0.9999
+    assert n["f_0.7_and_0.9_bit_identical"]
+    # 2. peak slip below modified Coulomb's: interior yes, all nodes no, and plain Coulomb 0.3 does the same
+    n = f2["numbers"]
+    assert f2["holds_interior"] and not f2["holds"] and not f2["attributable_to_model"]
+    assert n["peak_slip_interior_mps"]["subgrid"] == pytest.approx(76.7, abs=1.5)
+    assert n["peak_slip_interior_mps"]["coulomb_0.3"] == pytest.approx(76.5, abs=1.5)
+    assert n["peak_slip_interior_mps"]["modified_coulomb"] > 150.0 and n["cap_fraction"] > 0.97
+    # 3. melting, judged at T_F: no node, interior or not, within 1 K of 1220 K with the thermoelastic model
+    n = f3["numbers"]
+    assert not f3["holds_interior"] and not f3["holds"]
+    assert n["T_F_K"] == 1220.0 and n["max_interface_T_interior_K"] < 700.0 and n["max_interface_T_K"] < 1219.0
+    # 4. thermoelastoplastic ~ thermoelastic, and both ~ plain Coulomb 0.3
+    n = f4["numbers"]
+    assert f4["holds"] and not f4["attributable_to_model"]
+    assert n["max_diff"] < 0.005 and n["ref_vs_coulomb"] < 0.01 and n["model_vs_coulomb"] < 0.01
+    # control: where the SCG branch governs (f = 0.3) the model is visible
+    assert ctl["attributable_to_model"] and ctl["numbers"]["subgrid_fraction"] > 0.4
+    assert ctl["numbers"]["max_dev_from_coulomb_0.3"] > 0.1
+    # the tally: three branches that add up, for every sub-grid run
+    for name, r in rows.items():
+        if r["model"] in ("thermoelastic", "thermoelastoplastic"):
+            parts = [int(r[f"branch_{b}"]) for b in ("coulomb_cap", "sticking_cap", "subgrid")]
+            assert sum(parts) == int(r["friction_node_steps"]) > 0, name

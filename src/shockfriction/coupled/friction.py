@@ -24,7 +24,9 @@ line's friction work): each step adds S_j^n times the per-area increments of nod
 * ``cold_work``: (1 - beta_Q) of the plastic work (stored in the layer's defects);
 * ``plastic_heat_pending``: beta_Q times the last step's plastic work, deposited next step;
 * ``melt_energy``: lagged plastic heat that would have taken a column node past melting, clipped
-  off (the energy melting would absorb; thermoelastoplastic only, see ``_limit_plastic_heat``);
+  off (the energy melting would absorb; thermoelastoplastic only, the melt guard
+  :meth:`~shockfriction.friction.subgrid.interface.SubgridInterface.limit_plastic_heat` shared with the
+  uncoupled driver);
 * ``friction_work_columns``: tau |[V]^n| dt, the columns' view of the friction work.
 
 The columns' balance friction_work_columns = heat_columns + heat_other + cold_work + pending + melt holds
@@ -38,14 +40,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from shockfriction.coupled.kernels import capped_tangential_step, clip_deposit, column_inputs
+from shockfriction.coupled.kernels import capped_tangential_step, column_inputs
 from shockfriction.errors import DeckError, SimulationError
 from shockfriction.friction.subgrid.interface import SubgridInterface
 
-MELT_MARGIN = 1.0  # K: the lagged plastic heat never takes a column node above T_F - MELT_MARGIN
 IDLE_SLIP = 1e-6  # m/s: a free slip below this is contact round-off, the node's column stays idle
 ENERGY_KEYS = ("friction_work_columns", "heat_columns", "heat_other", "cold_work", "plastic_heat_pending",
                "melt_energy")
+# which term of tau = min(mu0 F_N, tau_stick, sub-grid branch) governs a friction node-step (in contact, free slip)
+BRANCHES = ("coulomb_cap", "sticking_cap", "subgrid")
 
 
 class SubgridFriction:
@@ -77,6 +80,7 @@ class SubgridFriction:
         self._win_plastic = np.zeros(n)
         self._win_macro = np.zeros(n)
         self._win_time = 0.0
+        self.branch_counts = dict.fromkeys(BRANCHES, 0)
         self.record = {k: [] for k in ("t", "theta_interface", "slip_local", "slip_plastic", "slip_macro")
                        + ENERGY_KEYS + ("friction_work_hydro",)}
         if profile_nodes is None:
@@ -99,9 +103,8 @@ class SubgridFriction:
                       line.active, line.lam_n, line.area, dt, self.bilateral, self._guide_load(mass.size),
                       IDLE_SLIP, self.sigma_n, self.v_free,
                       self.v_prev, self.m_slave, self.m_guide)
-        if self.model == "thermoelastoplastic":
-            self._limit_plastic_heat(line.area)
-        before = [sg.friction_work.copy(), sg.heat_interface.copy(), sg.heat_plastic.copy(), sg.plastic_work.copy()]
+        before = [sg.friction_work.copy(), sg.heat_interface.copy(), sg.heat_plastic.copy(), sg.plastic_work.copy(),
+                  sg.melt_energy.copy()]
         try:
             tau, _ = sg.step(self.sigma_n, self.v_free, self.v_prev, self.m_slave, self.m_guide, line.area, dt,
                              cycle=self.steps + 1, time=t)
@@ -122,6 +125,8 @@ class SubgridFriction:
         self.heat_other += float(S @ ((1.0 - sg.beta_T) * generated))
         self.cold_work += float(S @ ((1.0 - sg.beta_Q) * d_plastic))
         self.plastic_heat_pending = float(S @ sg.plastic_heat_pending)
+        self.melt_energy += float(S @ (sg.melt_energy - before[4]))
+        self._tally(tau)
         self._win_local += sg.slip_local * dt
         self._win_plastic += sg.slip_plastic * dt
         self._win_macro += sg.slip_macro * dt
@@ -135,19 +140,17 @@ class SubgridFriction:
                                "lam_t": line.lam_t.copy(), "slip": line.slip.copy(), "active": line.active.copy()})
         return sweeps
 
-    def _limit_plastic_heat(self, area: np.ndarray) -> None:
-        """Clip the lagged plastic heat so that no column node exceeds T_F - MELT_MARGIN before the step.
-
-        The thermoelastoplastic columns deposit the plastic heat of step n in step n + 1 (eq. 8.46);
-        near melting that deposit alone can carry a node past T_F, where the model has no state
-        (friction and strength vanish at T_F; no latent heat).  By the maximum principle of the
-        backward-Euler solve, theta_ad <= max_i (theta_i + deposit_i/(rho c)), so clipping each
-        node's deposit to rho c (T_F - margin - theta_i) keeps the column below melting.  The energy
-        clipped off is booked as ``melt_energy`` (what melting would absorb), so the audit still closes.
-        """
+    def _tally(self, tau: np.ndarray) -> None:
+        """Count which branch gave tau at each friction node-step (in contact with free slip): the Coulomb cap
+        mu0 F_N, the sticking cap tau_stick, or the sub-grid model (tau below both caps)."""
         sg = self.columns
-        self.melt_energy += clip_deposit(sg._pending_plastic_heat, sg.columns.theta, sg.columns.rho_c,
-                                         sg.material.melting_temperature - MELT_MARGIN, sg.columns.weights, area)
+        friction = (self.sigma_n > 0.0) & (self.v_free != 0.0)
+        coulomb = friction & (tau >= sg.tau_coulomb) & (sg.tau_coulomb <= sg.tau_stick)
+        stick = friction & ~coulomb & (tau >= sg.tau_stick)
+        n_c, n_s = int(coulomb.sum()), int(stick.sum())
+        self.branch_counts["coulomb_cap"] += n_c
+        self.branch_counts["sticking_cap"] += n_s
+        self.branch_counts["subgrid"] += int(friction.sum()) - n_c - n_s
 
     def _guide_load(self, n: int) -> np.ndarray:
         if getattr(self, "_load", None) is None or self._load.size != n:

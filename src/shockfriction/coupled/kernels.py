@@ -103,23 +103,3 @@ def capped_tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, cap, 
     for j in range(ns):
         slip[j] = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j]) if active[j] else 0.0
     return sweeps
-
-
-@njit(cache=True)
-def clip_deposit(pending, theta, rho_c, limit, weights, area):
-    """Clip each node's pending heat (J/m^3) to rho_c (limit - theta) (>= 0); return the energy
-    clipped off, sum_j area_j sum_i w_i (pending - clipped) (one pass, no temporaries)."""
-    clipped = 0.0
-    for j in range(pending.shape[0]):
-        row = 0.0
-        for i in range(pending.shape[1]):
-            p = pending[j, i]
-            if p > 0.0:
-                room = rho_c * (limit - theta[j, i])
-                if room < 0.0:
-                    room = 0.0
-                if p > room:
-                    row += weights[i] * (p - room)
-                    pending[j, i] = room
-        clipped += area[j] * row
-    return clipped

@@ -122,6 +122,8 @@ class RecordWriter:
             if ln.friction_model is not None:
                 for key, value in ln.friction_model.energy_balance().items():
                     grp.attrs[f"total_{key}_J"] = value
+                for key, value in ln.friction_model.branch_counts.items():  # node-steps governed by each branch
+                    grp.attrs[f"branch_{key}_node_steps"] = value
         for ln in self.coupled:
             fm, grp, n0 = ln.friction_model, self._col[ln.name], self._n_profiles[ln.name]
             n1 = len(fm.profile_t)

@@ -153,6 +153,26 @@ def affine_update(theta_ad, q_in, theta_unit, limit, out):
 
 
 # --------------------------------------------------------------------------- grids
+@njit(cache=True)
+def clip_deposit(pending, theta, rho_c, limit, weights, clipped):
+    """Melt guard of the lagged plastic heat: clip each node's pending heat (J/m^3) to
+    rho_c (limit - theta) (>= 0) and add each row's clipped energy sum_i w_i (pending - kept)
+    (J/m^2) to ``clipped[j]``.  By the maximum principle of the backward-Euler solve,
+    theta_ad <= max_i (theta_i + deposit_i/(rho c)) <= limit after the clip."""
+    for j in range(pending.shape[0]):
+        row = 0.0
+        for i in range(pending.shape[1]):
+            p = pending[j, i]
+            if p > 0.0:
+                room = rho_c * (limit - theta[j, i])
+                if room < 0.0:
+                    room = 0.0
+                if p > room:
+                    row += weights[i] * (p - room)
+                    pending[j, i] = room
+        clipped[j] += row
+
+
 def make_grid(thickness: float, n_cells: int, grading: float = 1.0) -> np.ndarray:
     """Node positions z_0 = 0 .. z_M = h; uniform (grading = 1, thesis eq. 6.73) or geometric dz_i = dz_0 r^i."""
     if not thickness > 0.0:

@@ -56,6 +56,8 @@ tau |[V]^n| dt), ``heat_interface`` (sum of flux_in dt), ``plastic_work`` (sum o
 int d_eps dz), ``heat_plastic`` (plastic heat deposited in the column, beta_Q times the plastic work,
 one step late), ``heat_stored`` (rho c int (theta - T0) dz).  Balances: friction_work =
 heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_plastic.
+``melt_energy`` (J/m^2, ch. 8): lagged plastic heat clipped off by the melt guard (below), so that
+beta_Q plastic_work = heat_plastic + plastic_heat_pending + melt_energy.
 ``lag_temperature`` (K, ch. 8) is the largest local temperature rise that the lagged plastic heat of
 this step will add in the next one: the size of the lag the thesis asks to check a posteriori (8.47).  Per-node profiles:
 ``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a buffer that the next step
@@ -69,7 +71,7 @@ import math
 import numpy as np
 
 from shockfriction.errors import SimulationError
-from shockfriction.friction.subgrid.column import ThermalColumns, affine_update
+from shockfriction.friction.subgrid.column import ThermalColumns, affine_update, clip_deposit
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
                                                            solve_thermoelastic)
 from shockfriction.friction.subgrid.thermoelastoplastic import (finish_plastic_step, row_integrals,
@@ -77,6 +79,7 @@ from shockfriction.friction.subgrid.thermoelastoplastic import (finish_plastic_s
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic")
+MELT_MARGIN = 1.0  # K: the lagged plastic heat never takes a column node above T_F - MELT_MARGIN
 
 
 def _material(m) -> Material:
@@ -125,7 +128,8 @@ class SubgridInterface:
         self._deposited = np.zeros(n)
         self._use_front = True  # skip the nodes proven elastic (False: visit all, for the tests)
         for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
-                     "friction_work", "heat_interface", "heat_plastic", "plastic_work", "lag_temperature"):
+                     "friction_work", "heat_interface", "heat_plastic", "plastic_work", "lag_temperature",
+                     "melt_energy", "tau_coulomb", "tau_stick"):
             setattr(self, name, np.zeros(n))
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
@@ -185,11 +189,14 @@ class SubgridInterface:
         tau_stick[vf == 0.0] = 0.0  # no free slip: no friction needed, none generated
         in_contact = sig > 0.0
         tau_cap = np.where(in_contact, np.minimum(self.mu0 * np.where(in_contact, sig, 0.0), tau_stick), 0.0)
+        self.tau_coulomb[:] = self.mu0 * np.where(in_contact, sig, 0.0)  # the caps, kept for branch tallies
+        self.tau_stick[:] = tau_stick
         F_N = np.where(in_contact, sig, 0.0)
 
         plastic = self.model == "thermoelastoplastic"
         deposited = None
-        if plastic:  # J/m^2 of lagged plastic heat put in this step (may have been clipped since)
+        if plastic:  # J/m^2 of lagged plastic heat put in this step, after the melt guard
+            self.limit_plastic_heat()
             deposited = self._deposited
             row_integrals(self._pending_plastic_heat, self.columns.weights, self._pending_depth, deposited)
         theta_ad = self.columns.adiabatic(dt, deposit=self._pending_plastic_heat if plastic else None)
@@ -209,6 +216,7 @@ class SubgridInterface:
                                       self._v_half, self.slip_local, self.slip_plastic, q_in, self._deps,
                                       self.iterations, self._status, self._depth, self._use_front)
         self._check(when)
+        self._check_finite(when, plastic)
         new = self._new
         T_F = self.material.melting_temperature
         bad = affine_update(theta_ad, q_in, unit, T_F, new)
@@ -231,7 +239,26 @@ class SubgridInterface:
             finish_plastic_step(self.eps_p, self._deps, self._hard, self.scg, self._depth, tau, self.beta_Q * SQRT3,
                                 self.columns.weights, self._pending_plastic_heat, self._pending_depth,
                                 self.plastic_work, self.lag_temperature, self.columns.rho_c)
+            if not np.all(np.isfinite(self.plastic_work)):
+                j = int(np.argmax(~np.isfinite(self.plastic_work)))
+                raise SimulationError(f"sub-grid step {when}: node {j}: non-finite plastic strain increment "
+                                      f"(interface {self.theta_interface[j]!r} K, tau = {tau[j]!r} Pa)")
         return tau.copy(), v_half
+
+    def limit_plastic_heat(self) -> None:
+        """Melt guard (thermoelastoplastic): clip the lagged plastic heat so that no column node exceeds
+        T_F - MELT_MARGIN in this step's adiabatic solve; the energy clipped off is added to ``melt_energy``.
+
+        The plastic heat of step n is deposited in step n + 1 (eq. 8.46); near melting that deposit
+        alone can carry a node past T_F, where the model has no state (strength and friction vanish,
+        no latent heat).  By the maximum principle of the backward-Euler solve, theta_ad <= max_i
+        (theta_i + deposit_i/(rho c)), so clipping each node's deposit to rho c (T_F - margin - theta_i)
+        keeps the column below melting; the clipped energy is what melting would absorb.  Called by
+        :meth:`step` (the uncoupled driver and the coupled slide line share it).
+        """
+        c = self.columns
+        clip_deposit(self._pending_plastic_heat, c.theta, c.rho_c, self.material.melting_temperature - MELT_MARGIN,
+                     c.weights, self.melt_energy)
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
@@ -242,6 +269,19 @@ class SubgridInterface:
         if time is not None:
             parts.append(f"t = {time:.6e} s")
         return "(" + ", ".join(parts) + ")" if parts else ""
+
+    def _check_finite(self, when: str, plastic: bool) -> None:
+        """A step whose accepted state is not finite fails here, in that step (not as bad input in the next)."""
+        vals = (self._theta_s, self.tau, self._v_half, self.slip_local, self.flux_in)
+        if plastic:
+            vals += (self.slip_plastic,)
+        for arr in vals:
+            if not np.all(np.isfinite(arr)):
+                j = int(np.argmax(~np.isfinite(arr)))
+                raise SimulationError(f"sub-grid step {when}: node {j}: the interface solve returned a non-finite "
+                                      f"state (interface {self._theta_s[j]!r} K, tau = {self.tau[j]!r} Pa, "
+                                      f"local slip {self.slip_local[j]!r} m/s, plastic slip "
+                                      f"{self.slip_plastic[j]!r} m/s)")
 
     def _check(self, when: str) -> None:
         st = self._status

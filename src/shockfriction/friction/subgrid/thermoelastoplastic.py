@@ -45,6 +45,12 @@ from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT,
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, scg_shear_ratio
 
 
+# ln of the largest closed-form (1 + beta eps_target) used: x^(1/n) is capped at exp(300) ~ 1e130, so that
+# n_nodes such increments, their integral / dt and the kinematic scaling all stay finite
+LOG_TARGET_MAX = 300.0
+TARGET_MAX = math.exp(LOG_TARGET_MAX)
+
+
 @njit(cache=True)
 def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out,
                        depth=-1, q_hi=math.inf):
@@ -55,6 +61,11 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min,
     E_min the melt factor at an upper bound of the trial temperatures (ad_max + q unit_max, or the
     exact maximum near melting).
+
+    Near melting G -> 0 and x = sqrt(3) tau G0/(G Y0) -> inf, so x^(1/n) (n ~ 0.1) would overflow
+    and the kinematic scaling would turn inf * 0 into NaN.  Where (1/n) ln x > LOG_TARGET_MAX the
+    strain target is taken as exp(LOG_TARGET_MAX)/beta (~1e130): finite, and so far above every
+    unsaturated node that the kinematic limit gives such nodes (equal shares of) the whole slip.
 
     ``depth`` (>= 0) is a plastic-front bound from :func:`plastic_depth`: for 0 <= q <= ``q_hi``
     the nodes from ``depth`` on are proven elastic, so only ``out[:depth]`` is written (the
@@ -79,6 +90,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
             return -1.0
     e_min = math.exp(-xi * th_max / (T_F - th_max))
     s = SQRT3 * tau / Y0
+    x_big = math.exp(n * LOG_TARGET_MAX)  # x beyond which x^(1/n) is replaced by exp(LOG_TARGET_MAX)
     lin0 = 1.0 + g * F_N + h * 300.0
     integral = 0.0
     for i in range(m):
@@ -92,7 +104,10 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
         x = s / r
         if x <= hard[i]:
             continue
-        d = (x ** (1.0 / n) - 1.0) / beta - eps_prev[i]
+        if x < x_big:
+            d = (x ** (1.0 / n) - 1.0) / beta - eps_prev[i]
+        else:
+            d = TARGET_MAX / beta
         if d > 0.0:
             out[i] = d
             integral += weights[i] * d
