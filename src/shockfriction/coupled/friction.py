@@ -80,7 +80,7 @@ class SubgridFriction:
         self._win_plastic = np.zeros(n)
         self._win_macro = np.zeros(n)
         self._win_time = 0.0
-        self.branch_counts = dict.fromkeys(BRANCHES, 0)
+        self._branch_counts = np.zeros(len(BRANCHES), dtype=np.int64)  # an array: checkpoints keep it
         self.record = {k: [] for k in ("t", "theta_interface", "slip_local", "slip_plastic", "slip_macro")
                        + ENERGY_KEYS + ("friction_work_hydro",)}
         if profile_nodes is None:
@@ -96,6 +96,11 @@ class SubgridFriction:
         self.steps = 0
 
     # ------------------------------------------------------------------ the friction step
+
+    @property
+    def branch_counts(self) -> dict[str, int]:
+        """Friction node-steps governed by each branch (Coulomb cap, sticking cap, sub-grid model)."""
+        return {k: int(v) for k, v in zip(BRANCHES, self._branch_counts)}
     def tangential(self, line, vx, vy, vx_old, vy_old, mass, dt: float, t: float) -> int:
         """Friction step of ``line`` (after its contact step): correct ``vx, vy``; return the sweeps."""
         sg = self.columns
@@ -148,9 +153,7 @@ class SubgridFriction:
         coulomb = friction & (tau >= sg.tau_coulomb) & (sg.tau_coulomb <= sg.tau_stick)
         stick = friction & ~coulomb & (tau >= sg.tau_stick)
         n_c, n_s = int(coulomb.sum()), int(stick.sum())
-        self.branch_counts["coulomb_cap"] += n_c
-        self.branch_counts["sticking_cap"] += n_s
-        self.branch_counts["subgrid"] += int(friction.sum()) - n_c - n_s
+        self._branch_counts += (n_c, n_s, int(friction.sum()) - n_c - n_s)
 
     def _guide_load(self, n: int) -> np.ndarray:
         if getattr(self, "_load", None) is None or self._load.size != n:
