@@ -17,6 +17,10 @@ def register(app: typer.Typer) -> None:
         scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786"),
         workers: Optional[int] = typer.Option(None, "--workers", help="local pool size (default: all cores); "
                                               "with --scheduler, wait for this many Dask workers"),
+        allow_outside: bool = typer.Option(False, "--allow-outside",
+                                           help="let base and measured.file name files outside the fit file's folder"),
+        allow_python: bool = typer.Option(False, "--allow-python",
+                                          help="let kind = 'python' import and call model = 'module:function'"),
     ) -> None:
         """Fit parameters (and a time shift) by least squares; report values, 1-sigma uncertainties, residual."""
         from rich.console import Console
@@ -31,7 +35,10 @@ def register(app: typer.Typer) -> None:
             values = ", ".join(f"{n} = {v:.6g}" for n, v in point.items() if n != "rms")
             err.print(f"evaluation {k}: {values}: rms {point['rms']:.4g}", highlight=False)
 
-        res = run_fit(fit_file, scheduler, workers, on_evaluation=report)
+        from shockfriction.safety import Trust
+
+        res = run_fit(fit_file, scheduler, workers, on_evaluation=report,
+                      trust=Trust(allow_outside=allow_outside, allow_python=allow_python))
         out_dir = out or Path("out") / fit_file.stem
         paths = write_outputs(res, out_dir)
         console = Console()

@@ -9,6 +9,7 @@ into arrays.  Slide lines (contact/friction between bodies) are the
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal, Optional, Union
 
 from pydantic import Field, model_validator
@@ -24,6 +25,7 @@ PositiveSpecificHeat = Annotated[SpecificHeat, Field(gt=0.0)]
 PositiveDensity = Annotated[Density, Field(gt=0.0)]
 PositivePressure = Annotated[Pressure, Field(gt=0.0)]
 
+MAX_CELLS = 20_000_000  # ~ 6 GB of state arrays
 SIDE_NAMES = ("bottom", "right", "top", "left")
 Side = Literal["bottom", "right", "top", "left"]
 Point = tuple[Length, Length]
@@ -91,7 +93,7 @@ class Body(DeckModel):
     """One body: a block of one material with its initial state."""
 
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_\-]+$")
-    material: Optional[str] = None
+    material: Optional[str] = Field(default=None, min_length=1)
     eos: Literal["mie-gruneisen", "ideal-gas"] = "mie-gruneisen"
     strength: Literal["none", "elastic-perfectly-plastic", "scg"] = "none"
     yield_stress: Optional[PositivePressure] = None
@@ -143,6 +145,7 @@ class TimeSpec(DeckModel):
     dt_max: Optional[PositiveTime] = None
     dt_growth: float = Field(default=1.1, ge=1.0)
     max_cycles: int = Field(default=10_000_000, ge=1)
+    dt_min_fraction: float = Field(default=1e-5, gt=0.0, lt=1.0)
 
 
 class Viscosity(DeckModel):
@@ -161,6 +164,7 @@ class Output(DeckModel):
     field_interval: Optional[PositiveTime] = None
     field_times: list[PositiveTime] = Field(default_factory=list)
     probe_every: int = Field(default=1, ge=1)
+    max_fields: int = Field(default=10_000, ge=1)
 
 
 class Tie(DeckModel):
@@ -244,6 +248,20 @@ class RunDeck(DeckModel):
         pnames = [p.name for p in self.probes]
         if len(set(pnames)) != len(pnames):
             raise ValueError("probe names must be unique")
+        cells = sum(b.mesh.nx * b.mesh.ny for b in self.bodies)
+        if cells > MAX_CELLS:
+            raise ValueError(f"at most {MAX_CELLS:,} cells in all (nx * ny summed over the bodies), got {cells:,}")
+        out = self.output
+        n_fields = len(out.field_times)
+        if out.field_interval is not None:
+            n_fields += math.floor(self.time.end / out.field_interval) + 1
+        if n_fields > out.max_fields:
+            raise ValueError(f"output: {n_fields:.3g} field outputs planned (time.end / output.field_interval + "
+                             f"field_times): expected at most output.max_fields = {out.max_fields} (raise it, or "
+                             "a longer field_interval)")
+        late = [t for t in out.field_times if t > self.time.end * (1 + 1e-9)]
+        if late:
+            raise ValueError(f"output.field_times: {late[0]:.4g} s is after time.end = {self.time.end:.4g} s")
         if self.geometry == "axisymmetric":
             for b in self.bodies:
                 if min(c[0] for c in b.mesh.corners) < 0.0:

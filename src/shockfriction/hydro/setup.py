@@ -187,6 +187,29 @@ def _probe(deck: RunDeck, mesh: Mesh, k: int, source: str) -> list[ProbeSpec]:
     return out
 
 
+def _check_overlap(mesh: Mesh, source: str) -> None:
+    """DeckError if a cell centre of one body lies inside another body's outline (overlapping matter)."""
+    if len(mesh.names) < 2:
+        return
+    from matplotlib.path import Path as Outline
+
+    cx = mesh.x[mesh.conn].mean(axis=1)
+    cy = mesh.y[mesh.conn].mean(axis=1)
+    for b, name in enumerate(mesh.names):
+        ring = np.concatenate([mesh.side_nodes(b, side)[:-1] for side in SIDES])
+        px, py = mesh.x[ring], mesh.y[ring]
+        others = mesh.cell_body != b
+        box = (others & (cx > px.min()) & (cx < px.max()) & (cy > py.min()) & (cy < py.max()))
+        cand = np.flatnonzero(box)
+        if cand.size == 0:
+            continue
+        inside = Outline(np.column_stack([px, py])).contains_points(np.column_stack([cx[cand], cy[cand]]))
+        if inside.any():
+            other, i, j = mesh.cell_ij(int(cand[np.argmax(inside)]))
+            raise DeckError(f"{source}: bodies {other!r} and {name!r} overlap: the centre of cell ({i}, {j}) of "
+                            f"{other!r} lies inside {name!r} (expected bodies that touch at most; check the corners)")
+
+
 def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     """Mesh every body, number globally, set initial state, constraints, groups, probes."""
     blocks = [Block.from_outline(b.mesh.corners, b.mesh.nx, b.mesh.ny, b.mesh.sides, b.mesh.ratio_x,
@@ -207,6 +230,7 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
         name, i, j = mesh.cell_ij(c)
         raise DeckError(f"{source}: body {name!r}: cell ({i}, {j}) has a non-positive volume at t = 0 "
                         "(check the corners' order and the side polylines)")
+    _check_overlap(mesh, source)
     rho = props[mat, mp.P_RHO0].copy()
     cmass = rho * vol
     mass_own = np.zeros(mesh.n_nodes)
