@@ -62,7 +62,7 @@ def _show_plan(sweep_file: Path, out: Path, retry_failed: bool, trust, shown: in
     from shockfriction.sweep.engine import plan
     from shockfriction.sweep.journal import finished
 
-    spec, kind, runs = plan(sweep_file, trust)
+    spec, kind, runs = plan(sweep_file, trust, import_model=False)
     done = finished(out, retry_failed)
     table = Table(title=f"{sweep_file.name}: {len(runs)} runs of kind {kind!r}, every deck valid")
     table.add_column("run")

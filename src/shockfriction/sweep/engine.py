@@ -25,7 +25,7 @@ from shockfriction.safety import TRUSTED, Trust
 from shockfriction.sweep.design import RunPoint, build_runs, column_unit
 from shockfriction.sweep.executors import open_executor
 from shockfriction.sweep.journal import finished, read_summary, result_path, write_result
-from shockfriction.sweep.runners import check_deck, detect_kind
+from shockfriction.sweep.runners import check_deck, detect_kind, load_function
 from shockfriction.sweep.spec import SweepSpec, load_sweep
 from shockfriction.sweep.store import gather, write_records, write_table
 from shockfriction.sweep.worker import execute
@@ -50,8 +50,12 @@ class SweepOutcome:
     records: Path | None = None
 
 
-def plan(sweep_file: str | Path, trust: Trust = TRUSTED) -> tuple[SweepSpec, str, list[RunPoint]]:
-    """Read the sweep file and the base deck, and validate every run's deck before any run starts."""
+def plan(sweep_file: str | Path, trust: Trust = TRUSTED,
+         import_model: bool = True) -> tuple[SweepSpec, str, list[RunPoint]]:
+    """Read the sweep file and the base deck, and validate every run's deck before any run starts.
+
+    ``import_model``: import a Python model (kind = "python", allowed by ``trust``) to check that it
+    exists; ``--dry-run`` passes False and so runs no user code."""
     sweep_file = Path(sweep_file)
     spec, here = load_sweep(sweep_file, trust)
     base = read_toml(here / spec.base) if spec.base else {}
@@ -65,6 +69,8 @@ def plan(sweep_file: str | Path, trust: Trust = TRUSTED) -> tuple[SweepSpec, str
         if run.key not in checked:
             check_deck(kind, run.deck, f"{sweep_file}: run {run.run_id} {run.values}", spec.model, trust)
             checked.add(run.key)
+    if kind == "python" and import_model:
+        load_function(spec.model or "", str(sweep_file))
     return spec, kind, runs
 
 
