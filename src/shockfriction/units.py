@@ -48,6 +48,7 @@ MAGNITUDE_LIMITS: dict[str, float] = {
     "temperature": 1e7,       # 10 MK
     "density": 1e6,           # kg/m^3
     "specific_energy": 1e13,  # J/kg
+    "heat_flux": 1e16,        # W/m^2
 }
 
 
