@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal, Optional, Union
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from shockfriction.contact.deck import SlideLineDeck
 from shockfriction.deck.base import DeckModel
@@ -113,6 +113,19 @@ class Body(DeckModel):
     temperature: Annotated[Temperature, Field(gt=0.0)] = 300.0
     mesh: MeshSpec
     boundary: Boundary = Field(default_factory=Boundary)
+
+    @field_validator("material")
+    @classmethod
+    def _known_material(cls, v):
+        if v is None:
+            return v
+        from shockfriction.errors import DeckError
+        from shockfriction.materials.library import get_material, material_names
+        try:
+            get_material(v)
+        except DeckError:
+            raise ValueError(f"a material of the library, one of {', '.join(material_names())}") from None
+        return v
 
     @model_validator(mode="after")
     def _consistent(self):
