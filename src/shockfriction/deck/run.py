@@ -124,7 +124,7 @@ class Body(DeckModel):
         try:
             get_material(v)
         except DeckError:
-            raise ValueError(f"a material of the library, one of {', '.join(material_names())}") from None
+            raise ValueError(f"unknown material: expected one of the library's {', '.join(material_names())}") from None
         return v
 
     @model_validator(mode="after")
