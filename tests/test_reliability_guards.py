@@ -116,7 +116,7 @@ def test_leaving_the_models_range_warns_once_per_body_and_lands_in_the_summary(t
 
 
 def test_an_unexpected_exception_is_one_line_exit_3_and_debug_shows_the_traceback(tmp_path, capsys, monkeypatch):
-    import shockfriction.hydro.api as api
+    from shockfriction.hydro import api
 
     def boom(*a, **k):
         raise RuntimeError("boom")

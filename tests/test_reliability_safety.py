@@ -129,7 +129,7 @@ def test_sigterm_to_a_sweep_terminates_its_pool_workers(tmp_path, model_module):
     assert kids, "the sweep started no worker"
     os.kill(proc.pid, signal.SIGTERM)
     proc.wait(timeout=30)
-    gone, alive = psutil.wait_procs(kids, timeout=15)
+    _, alive = psutil.wait_procs(kids, timeout=15)
     for p in alive:  # clean up before failing
         p.kill()
     assert not alive, f"{len(alive)} pool processes outlived the sweep"

@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from deckfuzz import DECKS, MUTATIONS, mutate, run_case  # noqa: E402
+from deckfuzz import DECKS, MUTATIONS, mutate, run_case
 
 
 def case(seed: int):

@@ -131,7 +131,7 @@ def mutate(cmd: str, name: str, kind: str, rnd: random.Random) -> bytes:
     """The bytes of a mutated copy of example ``name`` (mutation ``kind``, choices from ``rnd``)."""
     d = _shorten(cmd, tomllib.loads((EXAMPLES / name).read_text()))
     leaves = _leaves(d)
-    path, value = rnd.choice(leaves)
+    path, _ = rnd.choice(leaves)
     scalars = [(p, x) for p, x in leaves if not isinstance(x, (dict, list))] or leaves
     sp, sv = rnd.choice(scalars)
     if kind == "delete":

@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from deckfuzz import DECKS, MUTATIONS, mutate, run_case  # noqa: E402
+from deckfuzz import DECKS, MUTATIONS, mutate, run_case
 
 
 @settings(max_examples=40, deadline=None, derandomize=True, database=None,
