@@ -25,19 +25,19 @@ def deck_of(fit_file: str, values: dict, dataset: int | None = None) -> dict:
 # sub-grid ball, two-stage loading: mu0 = 0.2, f = 0.7, noise 10 MPa
 deck = deck_of("ball_two_stage_fit.toml", {"friction.mu0": 0.2, "friction.f": 0.7})
 t, tau = synthetic_record("subgrid", deck, "ball", "time", "tau", noise=10e6, seed=2009)
-write_csv(HERE / "ball_two_stage_measured.csv", t, tau, "us", "MPa", ("time", "tau"),
+write_csv(HERE / "ball_two_stage_synthetic.csv", t, tau, "us", "MPa", ("time", "tau"),
           "synthetic: shockfriction subgrid, ball two-stage loading, mu0 = 0.2, f = 0.7, noise 10 MPa (seed 2009)")
 
 # plate impact: flyer at 250 m/s, record delayed by 40 ns, noise 2 m/s
 deck = deck_of("plate_impact_velocity_fit.toml", {"bodies[0].velocity[1]": "250 m/s"})
 t, v = synthetic_record("run", deck, "fs", "time", "vy", noise=2.0, seed=2009)
-write_csv(HERE / "plate_impact_measured.csv", t + 40e-9, v, "us", "m/s", ("time", "vy"),
+write_csv(HERE / "plate_impact_synthetic.csv", t + 40e-9, v, "us", "m/s", ("time", "vy"),
           "synthetic: shockfriction run, plate impact, flyer 250 m/s, time shift +40 ns, noise 2 m/s (seed 2009)")
 
 # sub-grid ball under 1 GPa and under 10 GPa: mu0 = 0.2, f = 0.7, noise 5 MPa
 for k, name in enumerate(("low", "high")):
     deck = deck_of("ball_two_loadings_fit.toml", {"friction.mu0": 0.2, "friction.f": 0.7}, dataset=k)
     t, tau = synthetic_record("subgrid", deck, "ball", "time", "tau", noise=5e6, seed=2009 + k)
-    write_csv(HERE / f"ball_{name}_measured.csv", t, tau, "us", "MPa", ("time", "tau"),
+    write_csv(HERE / f"ball_{name}_synthetic.csv", t, tau, "us", "MPa", ("time", "tau"),
               f"synthetic: shockfriction subgrid, ball, {deck['loading'][0]['normal_stress'][0]}, "
               "mu0 = 0.2, f = 0.7, noise 5 MPa")

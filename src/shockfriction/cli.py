@@ -10,6 +10,7 @@ never a traceback.
 from __future__ import annotations
 
 import importlib
+import os
 import pkgutil
 import sys
 
@@ -36,15 +37,20 @@ def _show_version(value: bool) -> None:
         raise typer.Exit()
 
 
+_DEBUG = {"on": bool(os.environ.get("SHOCKFRICTION_DEBUG"))}
+
+
 @app.callback()
 def _root(
     version: bool = typer.Option(False, "--version", callback=_show_version, is_eager=True,
                                  help="print the version and exit"),
+    debug: bool = typer.Option(False, "--debug", help="show the traceback of an error"),
 ) -> None:
     """Metal-on-metal friction under shock loading (after Dambakizi 2009).
 
     Docs: deck reference, theory and examples in docs/ (mkdocs).
     """
+    _DEBUG["on"] = _DEBUG["on"] or debug
 
 
 for _mod in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
@@ -68,6 +74,13 @@ def main(argv: list[str] | None = None) -> None:
     except KeyboardInterrupt:
         err.print("[yellow]interrupted[/]", highlight=False)
         sys.exit(130)
+    except Exception as exc:  # last line of defence: the causes are fixed where they arise
+        if _DEBUG["on"] or "--debug" in (argv if argv is not None else sys.argv):
+            raise
+        text = " ".join(str(exc).split())[:300]
+        err.print(f"[bold red]run failed[/]\ninternal error {type(exc).__name__}: {escape(text)} "
+                  "(please report it; --debug shows the traceback)", highlight=False, soft_wrap=True)
+        sys.exit(3)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -7,6 +7,7 @@ only place that parses units; decks use the annotated pydantic types below.
 from __future__ import annotations
 
 import dataclasses
+import math
 from functools import lru_cache
 from typing import Annotated, Any
 
@@ -37,6 +38,21 @@ DIMENSIONS: dict[str, tuple[str, str, str]] = {
 }
 
 
+# Largest magnitude (SI) accepted for a kind: far beyond any shock/friction problem, so that a
+# typo (a missing exponent sign, a wrong unit prefix) is refused at the deck instead of making a run
+# that never ends or a 1e300-sized allocation.  Kinds not listed are only required to be finite.
+MAGNITUDE_LIMITS: dict[str, float] = {
+    "length": 1e3,            # 1 km
+    "time": 1e3,              # 1000 s
+    "velocity": 1e6,          # 1000 km/s
+    "pressure": 1e14,         # 100 TPa
+    "temperature": 1e7,       # 10 MK
+    "density": 1e6,           # kg/m^3
+    "specific_energy": 1e13,  # J/kg
+    "heat_flux": 1e16,        # W/m^2
+}
+
+
 class UnitError(ValueError):
     """A value does not carry a unit of the expected dimension."""
 
@@ -57,7 +73,7 @@ def to_si(value: str | float | int, kind: str) -> float:
         raise UnitError(f"expected a {kind} such as '{example}', got a boolean")
     if isinstance(value, (int, float)):
         if kind == "dimensionless":
-            return float(value)
+            return _checked(float(value), value, kind)
         raise UnitError(f"expected a {kind} with its unit, such as '{example}', got the bare number {value!r}")
     if not isinstance(value, str):
         raise UnitError(f"expected a {kind} such as '{example}', got {type(value).__name__}")
@@ -72,7 +88,23 @@ def to_si(value: str | float | int, kind: str) -> float:
         raise UnitError(
             f"{value!r} has dimension {q.dimensionality or 'dimensionless'}; expected a {kind} such as '{example}'"
         )
-    return float(q.to(si_unit).magnitude) if si_unit else float(q.to("").magnitude)
+    try:
+        si = float(q.to(si_unit).magnitude) if si_unit else float(q.to("").magnitude)
+    except (TypeError, ValueError, OverflowError, ArithmeticError) as exc:
+        raise UnitError(f"cannot read {value!r} as a number ({exc}); expected a {kind} such as '{example}'") from None
+    return _checked(si, value, kind)
+
+
+def _checked(si: float, given, kind: str) -> float:
+    """``si`` if finite and within MAGNITUDE_LIMITS[kind]; else UnitError."""
+    if not math.isfinite(si):
+        raise UnitError(f"{given!r} is not a finite number; expected a finite {kind}")
+    limit = MAGNITUDE_LIMITS.get(kind)
+    if limit is not None and abs(si) > limit:
+        unit = DIMENSIONS[kind][1]
+        raise UnitError(f"{given!r} is {si:.3g} {unit}: expected a {kind} of magnitude at most {limit:g} {unit} "
+                        "(outside any problem this code solves; check the exponent and the unit prefix)")
+    return si
 
 
 _BOUNDS = {"gt": ">", "ge": ">=", "lt": "<", "le": "<=", "exclusiveMinimum": ">", "minimum": ">=",

@@ -54,7 +54,10 @@ def test_examples_run(name, check, tmp_path):
 def test_max_cycles_stops_and_says_so(make_strip, tmp_path):
     deck = make_strip(ny_flyer=4, ny_target=10)
     deck["time"]["max_cycles"] = 7
-    res = run_dict(deck, tmp_path)
-    assert res.state.cycle == 7 and not res.summary["completed"]
+    import pytest
+
+    from shockfriction.errors import SimulationError
+    with pytest.raises(SimulationError, match="max_cycles"):  # a run cut short is a failure (exit 3)
+        run_dict(deck, tmp_path)
     import json
     assert json.loads((tmp_path / "summary.json").read_text())["completed"] is False

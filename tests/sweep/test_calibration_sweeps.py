@@ -139,7 +139,7 @@ path = "friction.mu0"
 values = [0.1, -0.1]
 """)
     with pytest.raises(SystemExit) as exc:
-        main(["sweep", str(tmp_path / "sweep.toml"), "--out", str(tmp_path / "out")])
+        main(["sweep", str(tmp_path / "sweep.toml"), "--out", str(tmp_path / "out"), "--allow-outside"])
     assert exc.value.code == 2
     err = " ".join(capsys.readouterr().err.split())
     assert "run r00001" in err and "friction.mu0 = -0.1: expected" in err and "greater than or equal to 0" in err

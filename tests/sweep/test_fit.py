@@ -160,7 +160,7 @@ def test_bad_fit_files_exit_2_with_field_and_expectation(tmp_path, capsys, model
     synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us"}, noise=0.0)
     (tmp_path / "fit.toml").write_text(RAMP_FIT.replace(*edit))
     with pytest.raises(SystemExit) as exc:
-        main(["fit", str(tmp_path / "fit.toml"), "--workers", "1"])
+        main(["fit", str(tmp_path / "fit.toml"), "--workers", "1", "--allow-python"])
     assert exc.value.code == 2
     err = " ".join(capsys.readouterr().err.split())
     for frag in fragments:
@@ -215,7 +215,7 @@ def test_top_level_record_and_dataset_tables_together_exit_2(tmp_path, capsys, m
     extra = '[[dataset]]\n[dataset.measured]\nfile = "measured.csv"\n[dataset.computed]\nrecord = "free_surface"\n'
     (tmp_path / "fit.toml").write_text(RAMP_FIT.replace("[solver]", "") + extra)
     with pytest.raises(SystemExit) as exc:
-        main(["fit", str(tmp_path / "fit.toml"), "--workers", "1"])
+        main(["fit", str(tmp_path / "fit.toml"), "--workers", "1", "--allow-python"])
     assert exc.value.code == 2
     err = " ".join(capsys.readouterr().err.split())
     assert "kind, model, measured, computed, time_shift, set at the top level with dataset tables" in err
@@ -301,7 +301,7 @@ def test_fit_command_prints_the_table_and_writes_report_plot_and_records(tmp_pat
     synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us", "t0": "150 ns"}, noise=0.02)
     (tmp_path / "fit.toml").write_text(RAMP_FIT)
     with pytest.raises(SystemExit) as exc:
-        main(["fit", str(tmp_path / "fit.toml"), "--out", str(tmp_path / "out"), "--workers", "2"])
+        main(["fit", str(tmp_path / "fit.toml"), "--out", str(tmp_path / "out"), "--workers", "2", "--allow-python"])
     assert exc.value.code == 0
     out = capsys.readouterr()
     assert "time_shift" in out.out and "residual rms" in out.out and "evaluation 1:" in out.err

@@ -114,7 +114,8 @@ def test_killed_sweep_resumes_without_losing_or_recomputing_finished_runs(tmp_pa
     values = "[" + ", ".join(f"{a:.1f}" for a in range(1, 13)) + "]"
     sweep = write_sweep(tmp_path, values=values, extra=f'sleep = 0.15\nmarker_dir = "{markers}"')
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "shockfriction", "sweep", str(sweep), "--out", str(out), "--workers", "1", "--quiet"]
+    cmd = [sys.executable, "-m", "shockfriction", "sweep", str(sweep), "--out", str(out), "--workers", "1", "--quiet",
+           "--allow-python"]
     proc = subprocess.Popen(cmd, start_new_session=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     runs_dir = out / "runs"
     deadline = time.monotonic() + 60
@@ -161,7 +162,7 @@ def test_dry_run_validates_and_lists_the_runs_and_runs_nothing(tmp_path, models_
 
     sweep = write_sweep(tmp_path)
     with pytest.raises(SystemExit) as exc:
-        main(["sweep", str(sweep), "--out", str(tmp_path / "out"), "--dry-run"])
+        main(["sweep", str(sweep), "--out", str(tmp_path / "out"), "--dry-run", "--allow-python"])
     assert exc.value.code == 0
     out = capsys.readouterr().out
     assert "6 runs of kind 'python'" in out and "0 finished, 6 to run" in out and "200.0 ns" in out
@@ -173,7 +174,7 @@ def test_a_run_whose_worker_dies_stays_pending_and_the_command_exits_1(tmp_path,
 
     sweep = write_sweep(tmp_path, values="[1.0, 2.0]", extra="die_at = 2.0")
     with pytest.raises(SystemExit) as exc:
-        main(["sweep", str(sweep), "--out", str(tmp_path / "out"), "--workers", "1", "--quiet"])
+        main(["sweep", str(sweep), "--out", str(tmp_path / "out"), "--workers", "1", "--quiet", "--allow-python"])
     assert exc.value.code == 1
     err = " ".join(capsys.readouterr().err.split())
     assert "lost with its worker, left pending" in err and "BrokenProcessPool" in err

@@ -104,7 +104,7 @@ def test_bad_sweep_files_exit_2_naming_field_value_and_expectation(tmp_path, cap
     (tmp_path / "deck.toml").write_text("[friction]\nmu0 = 0.3\nf = 0.7\n")
     (tmp_path / "sweep.toml").write_text(text)
     with pytest.raises(SystemExit) as exc:
-        main(["sweep", str(tmp_path / "sweep.toml"), "--out", str(tmp_path / "out")])
+        main(["sweep", str(tmp_path / "sweep.toml"), "--out", str(tmp_path / "out"), "--allow-python"])
     assert exc.value.code == 2
     err = " ".join(capsys.readouterr().err.split())
     for frag in fragments:

@@ -130,8 +130,8 @@ def register(app: typer.Typer) -> None:
         p = _parse(pressure, "pressure", "--pressure")
         t = _parse(time, "time", "--time")
         theta = _parse(temperature, "temperature", "--temperature")
-        if not t > 0.0:
-            raise DeckError(f"--time = {time!r}: expected a positive time such as '10 us'")
+        if not t >= 1e-15:  # below a femtosecond the numbers overflow (1/T^ in every group)
+            raise DeckError(f"--time = {time!r}: expected a positive time of at least 1 fs, such as '10 us'")
         if not theta > 0.0:
             raise DeckError(f"--temperature = {temperature!r}: expected a positive absolute temperature")
         if not threshold > 0.0:

@@ -21,6 +21,10 @@ def register(app: typer.Typer) -> None:
                                               "with --scheduler, wait for this many Dask workers"),
         verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
         quiet: bool = typer.Option(False, "--quiet", "-q", help="no evaluation lines; log errors only"),
+        allow_outside: bool = typer.Option(False, "--allow-outside",
+                                           help="let base and measured.file name files outside the fit file's folder"),
+        allow_python: bool = typer.Option(False, "--allow-python",
+                                          help="let kind = 'python' import and call model = 'module:function'"),
     ) -> None:
         """Fit parameters (and a time shift) by least squares; report values, 1-sigma uncertainties, residual."""
         from rich.console import Console
@@ -40,7 +44,10 @@ def register(app: typer.Typer) -> None:
             values = ", ".join(f"{n} = {v:.6g}" for n, v in point.items() if n != "rms")
             err.print(f"evaluation {k}: {values}: rms {point['rms']:.4g}", highlight=False)
 
-        res = run_fit(fit_file, scheduler, workers, on_evaluation=None if quiet else report)
+        from shockfriction.safety import Trust
+
+        res = run_fit(fit_file, scheduler, workers, on_evaluation=None if quiet else report,
+                      trust=Trust(allow_outside=allow_outside, allow_python=allow_python))
         paths = write_outputs(res, out_dir)
         console = Console()
         table = Table(title=f"fit of {fit_file.name}: {res.message}")

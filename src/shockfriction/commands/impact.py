@@ -59,8 +59,14 @@ def register(app: typer.Typer) -> None:
 
         def yield_of(m):
             return H.scg_yield_function(m) if strength == "scg" else m.Y0
-        ep = H.impedance_match_elastic_plastic(eos["flyer"], mats["flyer"].G0, yield_of(mats["flyer"]),
-                                               eos["target"], mats["target"].G0, yield_of(mats["target"]), v)
+        from shockfriction.errors import SimulationError
+
+        try:
+            ep = H.impedance_match_elastic_plastic(eos["flyer"], mats["flyer"].G0, yield_of(mats["flyer"]),
+                                                   eos["target"], mats["target"].G0, yield_of(mats["target"]), v)
+        except ValueError as exc:  # the root finders say which state they could not find
+            raise SimulationError(f"--velocity = {velocity!r}, --strength = {strength!r}: no elastic-plastic "
+                                  f"solution ({exc}); the hydrodynamic table above holds") from None
         table = Table(title=f"with strength ({strength}, G0 of the library): uniaxial-strain two-wave solution")
         for col in ("quantity", "target", "flyer (its rest frame)"):
             table.add_column(col)

@@ -22,22 +22,28 @@ def register(app: typer.Typer) -> None:
         verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
         quiet: bool = typer.Option(False, "--quiet", "-q", help="no progress bar; log errors only"),
         dry_run: bool = typer.Option(False, "--dry-run", help="validate every deck and list the runs; run nothing"),
+        allow_outside: bool = typer.Option(False, "--allow-outside",
+                                           help="let base name a deck outside the sweep file's folder"),
+        allow_python: bool = typer.Option(False, "--allow-python",
+                                          help="let kind = 'python' import and call model = 'module:function'"),
     ) -> None:
         """Run every deck of a sweep; rerunning the same command resumes an interrupted sweep."""
         from rich.console import Console
 
         from shockfriction.io.outdir import check_out_path, check_workers
         from shockfriction.log import configure_logging, verbosity
+        from shockfriction.safety import Trust
         from shockfriction.sweep.engine import run_sweep
 
         configure_logging(verbosity(verbose, quiet))
         check_workers(workers)
         check_out_path(out)  # an existing folder is resumed into
         console = Console(stderr=True)
+        trust = Trust(allow_outside=allow_outside, allow_python=allow_python)
         if dry_run:
-            _show_plan(sweep_file, out, retry_failed)
+            _show_plan(sweep_file, out, retry_failed, trust)
             return
-        res = run_sweep(sweep_file, out, scheduler, workers, retry_failed, progress=not quiet)
+        res = run_sweep(sweep_file, out, scheduler, workers, retry_failed, progress=not quiet, trust=trust)
         console.print(f"{res.total} runs: {res.ok} ok, {res.failed} failed, {res.pending} pending "
                       f"({res.computed} computed now, {res.reused} already finished)")
         for line in res.lost[:5]:
@@ -48,11 +54,15 @@ def register(app: typer.Typer) -> None:
         if res.interrupted:
             console.print("[yellow]interrupted[/]: rerun the same command to resume")
             raise typer.Exit(130)
+        if res.failed:
+            console.print(f"[red]{res.failed} of {res.total} runs failed[/] (their errors: column 'error' of "
+                          f"{res.table}; --retry-failed runs them again)", highlight=False)
+            raise typer.Exit(3)
         if res.pending:
             raise typer.Exit(1)
 
 
-def _show_plan(sweep_file: Path, out: Path, retry_failed: bool, shown: int = 40) -> None:
+def _show_plan(sweep_file: Path, out: Path, retry_failed: bool, trust, shown: int = 40) -> None:
     """Print the runs of a sweep (validated) and which of them ``out`` already holds."""
     from rich.console import Console
     from rich.table import Table
@@ -60,7 +70,7 @@ def _show_plan(sweep_file: Path, out: Path, retry_failed: bool, shown: int = 40)
     from shockfriction.sweep.engine import plan
     from shockfriction.sweep.journal import finished
 
-    spec, kind, runs = plan(sweep_file)
+    spec, kind, runs = plan(sweep_file, trust, import_model=False)
     done = finished(out, retry_failed)
     table = Table(title=f"{sweep_file.name}: {len(runs)} runs of kind {kind!r}, every deck valid")
     table.add_column("run")

@@ -20,7 +20,7 @@ M = TypeVar("M", bound=BaseModel)
 class DeckModel(BaseModel):
     """Base of every deck section: unknown keys are errors, values are frozen."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 def _field_path(loc: tuple) -> str:
@@ -30,7 +30,7 @@ def _field_path(loc: tuple) -> str:
             out += f"[{part}]"
         else:
             out += ("." if out else "") + str(part)
-    return out or "(deck)"
+    return out
 
 
 _EXPECT = {
@@ -47,8 +47,12 @@ def format_validation_error(err: ValidationError, source: str = "deck", raw: dic
         path = _field_path(loc)
         given = _lookup(raw, loc) if raw is not None else e.get("input")
         expected = _EXPECT.get(e["type"]) or e["msg"].removeprefix("Value error, ")
-        if e["type"] == "missing":
+        if not path:  # a check of the whole deck: its message names the fields
+            lines.append(f"{source}: {expected}")
+        elif e["type"] == "missing":
             lines.append(f"{source}: {path} is missing: expected {expected}")
+        elif isinstance(given, (dict, list)):  # a table-level check: name the table, not its contents
+            lines.append(f"{source}: {path}: {'' if 'expected' in expected else 'expected '}{expected}")
         elif e["type"] == "value_error" and "expected" in expected:
             lines.append(f"{source}: {path} = {given!r}: {expected}")  # the message states the expectation
         else:
@@ -74,8 +78,15 @@ def read_toml(path: str | Path) -> dict:
             return tomllib.load(fh)
     except FileNotFoundError:
         raise DeckError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise DeckError(f"{path}: is a folder: expected a TOML deck file") from None
+    except UnicodeDecodeError as exc:
+        raise DeckError(f"{path}: not valid TOML: expected UTF-8 text (undecodable byte at offset "
+                        f"{exc.start})") from None
     except tomllib.TOMLDecodeError as exc:
         raise DeckError(f"{path}: not valid TOML: {exc}") from None
+    except OSError as exc:
+        raise DeckError(f"{path}: cannot be read ({exc.strerror or type(exc).__name__})") from None
 
 
 def validate(model: type[M], data: dict, source: str = "deck", folder: str | Path | None = None) -> M:

@@ -10,6 +10,7 @@ into arrays.  Slide lines (contact/friction between bodies) are the
 from __future__ import annotations
 
 import re
+import math
 from pathlib import Path
 from typing import Annotated, Literal, Optional, Union
 
@@ -28,6 +29,7 @@ PositiveSpecificHeat = Annotated[SpecificHeat, Field(gt=0.0)]
 PositiveDensity = Annotated[Density, Field(gt=0.0)]
 PositivePressure = Annotated[Pressure, Field(gt=0.0)]
 
+MAX_CELLS = 20_000_000  # ~ 6 GB of state arrays
 SIDE_NAMES = ("bottom", "right", "top", "left")
 Side = Literal["bottom", "right", "top", "left"]
 Point = tuple[Length, Length]
@@ -158,7 +160,7 @@ class Body(DeckModel):
     """One body: a block of one material with its initial state."""
 
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_\-]+$")
-    material: Optional[str] = None
+    material: Optional[str] = Field(default=None, min_length=1)
     eos: Literal["mie-gruneisen", "ideal-gas"] = "mie-gruneisen"
     strength: Literal["none", "elastic", "elastic-perfectly-plastic", "scg"] = "none"
     yield_stress: Optional[PositivePressure] = None
@@ -184,6 +186,19 @@ class Body(DeckModel):
     temperature: Annotated[Temperature, Field(gt=0.0)] = 300.0
     mesh: AnyMesh
     boundary: Boundary = Field(default_factory=Boundary)
+
+    @field_validator("material")
+    @classmethod
+    def _known_material(cls, v):
+        if v is None:
+            return v
+        from shockfriction.errors import DeckError
+        from shockfriction.materials.library import get_material, material_names
+        try:
+            get_material(v)
+        except DeckError:
+            raise ValueError(f"unknown material: expected one of the library's {', '.join(material_names())}") from None
+        return v
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -244,6 +259,7 @@ class TimeSpec(DeckModel):
     dt_max: Optional[PositiveTime] = None
     dt_growth: float = Field(default=1.1, ge=1.0)
     max_cycles: int = Field(default=10_000_000, ge=1)
+    dt_min_fraction: float = Field(default=1e-5, gt=0.0, lt=1.0)
 
 
 class Viscosity(DeckModel):
@@ -264,6 +280,7 @@ class Output(DeckModel):
     probe_every: int = Field(default=1, ge=1)
     # write the full state to checkpoint.h5 every interval (restart: ``shockfriction run --restart``)
     checkpoint_interval: Optional[PositiveTime] = None
+    max_fields: int = Field(default=10_000, ge=1)
 
 
 class Tie(DeckModel):
@@ -360,6 +377,20 @@ class RunDeck(DeckModel):
         pnames = [p.name for p in self.probes]
         if len(set(pnames)) != len(pnames):
             raise ValueError("probe names must be unique")
+        cells = sum(b.mesh.nx * b.mesh.ny for b in self.bodies)
+        if cells > MAX_CELLS:
+            raise ValueError(f"at most {MAX_CELLS:,} cells in all (nx * ny summed over the bodies), got {cells:,}")
+        out = self.output
+        n_fields = len(out.field_times)
+        if out.field_interval is not None:
+            n_fields += math.floor(self.time.end / out.field_interval) + 1
+        if n_fields > out.max_fields:
+            raise ValueError(f"output: {n_fields:.3g} field outputs planned (time.end / output.field_interval + "
+                             f"field_times): expected at most output.max_fields = {out.max_fields} (raise it, or "
+                             "a longer field_interval)")
+        late = [t for t in out.field_times if t > self.time.end * (1 + 1e-9)]
+        if late:
+            raise ValueError(f"output.field_times: {late[0]:.4g} s is after time.end = {self.time.end:.4g} s")
         if self.geometry == "axisymmetric":
             for b in self.bodies:
                 if not b.from_file and min(c[0] for c in b.mesh.corners) < 0.0:

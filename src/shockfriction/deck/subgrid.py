@@ -64,7 +64,7 @@ class FrictionDeck(DeckModel):
 class LoadingDeck(DeckModel):
     """A loading history for one column: (slip velocity, normal stress) or a heat flux, at given times."""
 
-    name: Optional[str] = None
+    name: Optional[str] = Field(default=None, min_length=1, pattern=r"^[A-Za-z0-9_\-]+$")
     interpolation: Literal["constant", "linear"] = "constant"
     times: list[NonNegativeTime] = Field(min_length=1)
     slip_velocity: Optional[list[Velocity]] = None
@@ -116,6 +116,7 @@ class SubgridDeck(DeckModel):
     column: ColumnDeck = Field(default_factory=ColumnDeck)
     friction: Optional[FrictionDeck] = None
     loading: list[LoadingDeck] = Field(min_length=1)
+    max_steps: int = Field(default=10_000_000, ge=1)
 
     @field_validator("material", "other_material")
     @classmethod
@@ -174,12 +175,20 @@ class SubgridDeck(DeckModel):
         kinds = {ld.kind for ld in v}
         if len(kinds) > 1:
             raise ValueError("every loading of one kind: all slip/normal-stress histories or all heat fluxes")
-        if "slip" in kinds and info.data.get("friction") is None:
+        if "slip" in kinds and "friction" in info.data and info.data["friction"] is None:
             raise ValueError("a friction table with mu0 and f for slip/normal-stress loading")
         names = [ld.name for ld in v if ld.name]
         if len(set(names)) != len(names):
             raise ValueError("distinct loading names")
         return v
+
+    @model_validator(mode="after")
+    def _step_count(self):
+        n = self.duration / self.dt
+        if n > self.max_steps:
+            raise ValueError(f"duration / dt = {n:.3g} steps: expected at most max_steps = {self.max_steps} "
+                             "(a longer dt, a shorter duration, or raise max_steps)")
+        return self
 
     @property
     def mode(self) -> str:

@@ -149,6 +149,7 @@ def summarize(sim: Simulation) -> dict[str, Any]:
         "momentum_kg_m_s": [px * (2 * np.pi if s.axisymmetric else 1.0), py * s.geometry_factor],
         "mass_kg": float(s.cell_mass.sum() * s.geometry_factor),
         "energy_unit": "J" if s.axisymmetric else "J/m",
+        "warnings": list(sim.guards.warnings),
     }
 
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from shockfriction.errors import SimulationError
 from shockfriction.hydro import kernels as K
+from shockfriction.hydro.guards import RunGuards
 from shockfriction.hydro.setup import Problem
 
 
@@ -119,6 +120,7 @@ class Simulation:
         # called by run() between cycles (state at t^n, nothing half-updated): output writers, checkpoints
         self.between_cycles: list[Callable[["Simulation"], None]] = []
         self.wall_time = 0.0
+        self.guards = RunGuards(self)
         for obj in interfaces or []:
             self.register_interface(obj)
 
@@ -264,6 +266,7 @@ class Simulation:
         s.t += dt
         s.cycle += 1
         self._dt_prev = dt
+        self.guards.after_step(dtn, self._dtcell)
         dtn = min(dtn, self.dt_growth * dt, self.dt_max)
         remaining = self.t_end - s.t
         if dtn >= remaining * (1.0 - 1e-9):
@@ -329,6 +332,8 @@ class Simulation:
                 if progress is not None and s.cycle % 50 == 0:
                     progress(s.t)
             self.record_final()
+            self.guards.model_range()
+            self.guards.finished()
         finally:
             self.wall_time += _time.perf_counter() - start
             for obj in self.interfaces:

@@ -15,7 +15,7 @@ from shockfriction.hydro.kernels import cell_volumes, initial_cell_state, nodal_
 from shockfriction.hydro.state import State
 from shockfriction.materials.library import SCG_ORDER, get_material
 from shockfriction.mesh.assembly import Mesh
-from shockfriction.mesh.block import Block
+from shockfriction.mesh.block import SIDES, Block
 from shockfriction.units import UnitError, pressure_power_time_to_si
 
 IDEAL_GAS_DEFAULT_CV = 718.0  # J/(kg K), air; only used for the reported temperature
@@ -242,6 +242,30 @@ def _side_nodes(mesh: Mesh, body: str, side: str, where: str) -> np.ndarray:
         raise DeckError(f"{where}: {exc.args[0]}") from None
     except ValueError as exc:  # MeshFileError: a side that is not one boundary path
         raise DeckError(f"{where}: {exc}") from None
+def _check_overlap(mesh: Mesh, source: str) -> None:
+    """DeckError if a cell centre of one body lies inside another body's outline (overlapping matter)."""
+    if len(mesh.names) < 2:
+        return
+    from matplotlib.path import Path as Outline
+
+    cx = mesh.x[mesh.conn].mean(axis=1)
+    cy = mesh.y[mesh.conn].mean(axis=1)
+    for b, name in enumerate(mesh.names):
+        try:  # a mapped block's outline; a gmsh body has its own side names (gmsh meshes one geometry)
+            ring = np.concatenate([mesh.side_nodes(b, side)[:-1] for side in SIDES])
+        except (KeyError, ValueError):
+            continue
+        px, py = mesh.x[ring], mesh.y[ring]
+        others = mesh.cell_body != b
+        box = (others & (cx > px.min()) & (cx < px.max()) & (cy > py.min()) & (cy < py.max()))
+        cand = np.flatnonzero(box)
+        if cand.size == 0:
+            continue
+        inside = Outline(np.column_stack([px, py])).contains_points(np.column_stack([cx[cand], cy[cand]]))
+        if inside.any():
+            other, i, j = mesh.cell_ij(int(cand[np.argmax(inside)]))
+            raise DeckError(f"{source}: bodies {other!r} and {name!r} overlap: the centre of cell ({i}, {j}) of "
+                            f"{other!r} lies inside {name!r} (expected bodies that touch at most; check the corners)")
 
 
 def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
@@ -270,6 +294,7 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
         where = f"cell ({i}, {j})" if j >= 0 else f"file cell {i}"
         raise DeckError(f"{source}: body {name!r}: {where} has a non-positive volume at t = 0 "
                         "(check the corners' order and the side polylines)")
+    _check_overlap(mesh, source)
     rho = props[mat, mp.P_RHO0].copy()
     cmass = rho * vol
     mass_own = np.zeros(mesh.n_nodes)

@@ -40,7 +40,8 @@ def plot_subgrid_interface(interface_h5: str | Path, out_dir: str | Path) -> lis
                 kw = dict(vmin=float(np.min(z)), vmax=lim[1])
             mesh = ax.pcolormesh(nodes, t_us, z, shading="nearest", cmap=cmap, **kw)
             fig.colorbar(mesh, ax=ax, label=label)
-            if key == "theta_interface_K" and np.isfinite(T_F) and z.max() >= T_F - 20.0:
+            if (key == "theta_interface_K" and np.isfinite(T_F) and min(z.shape) >= 2  # contour needs a 2x2 grid
+                    and z.max() >= T_F - 20.0):
                 ax.contour(nodes, t_us, z, levels=[T_F - 20.0], colors="cyan", linewidths=0.8)
             ax.set_xlabel("slave node")
             ax.set_ylabel("time (us)")

@@ -1,7 +1,8 @@
 """The runs of a sweep: parameter values (full grid or Latin hypercube) applied to the base deck.
 
 Every run is identified by the content hash of what determines it (kind,
-model, deck after overrides, outputs kept, package version): a finished run
+model, deck after overrides, outputs kept, package version and a hash of the package's
+source files): a finished run
 is found again by that key when a sweep resumes, whatever its position.
 """
 
@@ -11,6 +12,8 @@ import hashlib
 import itertools
 import json
 from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -67,10 +70,22 @@ def lhs_values(params: list[Parameter], n: int, seed: int) -> list[list]:
     return rows
 
 
+@lru_cache(maxsize=1)
+def code_hash() -> str:
+    """SHA-256 of the package's source and data files (path and bytes), so that a result computed
+    by other code is never reused, whatever the version number says."""
+    root = Path(shockfriction.__file__).parent
+    h = hashlib.sha256()
+    for f in sorted(root.rglob("*")):
+        if f.is_file() and f.suffix in (".py", ".toml") and "__pycache__" not in f.parts:
+            h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()[:16]
+
+
 def run_key(kind: str | None, model: str | None, deck: dict, keep: dict) -> str:
-    """Content hash of everything a run's result depends on."""
+    """Content hash of everything a run's result depends on (the package's code included)."""
     blob = json.dumps({"kind": kind, "model": model, "deck": deck, "keep": keep,
-                       "version": shockfriction.__version__}, sort_keys=True, default=repr)
+                       "version": shockfriction.__version__, "code": code_hash()}, sort_keys=True, default=repr)
     return hashlib.sha256(blob.encode()).hexdigest()[:24]
 
 

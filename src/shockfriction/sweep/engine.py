@@ -21,10 +21,11 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from shockfriction.deck.base import read_toml
+from shockfriction.safety import TRUSTED, Trust
 from shockfriction.sweep.design import RunPoint, build_runs, column_unit
 from shockfriction.sweep.executors import open_executor
 from shockfriction.sweep.journal import finished, read_summary, result_path, write_result
-from shockfriction.sweep.runners import check_deck, detect_kind
+from shockfriction.sweep.runners import check_deck, detect_kind, load_function
 from shockfriction.sweep.spec import SweepSpec, load_sweep
 from shockfriction.sweep.store import gather, write_records, write_table
 from shockfriction.sweep.worker import execute
@@ -49,10 +50,14 @@ class SweepOutcome:
     records: Path | None = None
 
 
-def plan(sweep_file: str | Path) -> tuple[SweepSpec, str, list[RunPoint]]:
-    """Read the sweep file and the base deck, and validate every run's deck before any run starts."""
+def plan(sweep_file: str | Path, trust: Trust = TRUSTED,
+         import_model: bool = True) -> tuple[SweepSpec, str, list[RunPoint]]:
+    """Read the sweep file and the base deck, and validate every run's deck before any run starts.
+
+    ``import_model``: import a Python model (kind = "python", allowed by ``trust``) to check that it
+    exists; ``--dry-run`` passes False and so runs no user code."""
     sweep_file = Path(sweep_file)
-    spec, here = load_sweep(sweep_file)
+    spec, here = load_sweep(sweep_file, trust)
     base = read_toml(here / spec.base) if spec.base else {}
     kind = spec.effective_kind
     if kind is None:
@@ -62,16 +67,18 @@ def plan(sweep_file: str | Path) -> tuple[SweepSpec, str, list[RunPoint]]:
     checked: set[str] = set()
     for run in runs:
         if run.key not in checked:
-            check_deck(kind, run.deck, f"{sweep_file}: run {run.run_id} {run.values}", spec.model)
+            check_deck(kind, run.deck, f"{sweep_file}: run {run.run_id} {run.values}", spec.model, trust)
             checked.add(run.key)
+    if kind == "python" and import_model:
+        load_function(spec.model or "", str(sweep_file))
     return spec, kind, runs
 
 
 def run_sweep(sweep_file: str | Path, out_dir: str | Path, scheduler: str | None = None,
               workers: int | None = None, retry_failed: bool = False, progress: bool = True,
-              executor: Executor | None = None) -> SweepOutcome:
+              executor: Executor | None = None, trust: Trust = TRUSTED) -> SweepOutcome:
     """Run (or resume) the sweep of ``sweep_file`` into ``out_dir``; see the module docstring."""
-    spec, kind, runs = plan(sweep_file)
+    spec, kind, runs = plan(sweep_file, trust)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     units = {p.column: column_unit(p) for p in spec.parameter}

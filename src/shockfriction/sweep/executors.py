@@ -21,11 +21,37 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import signal
+import threading
 from concurrent.futures import Executor, ProcessPoolExecutor
 from contextlib import contextmanager
 from typing import Iterator
 
 from shockfriction.errors import DeckError
+
+
+def _sigterm_interrupts():
+    """Make SIGTERM raise KeyboardInterrupt in the main thread (so that the pool is torn down as on
+    Ctrl-C); returns the previous handler, or None where no handler can be set (not the main thread)."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+
+    def handler(signum, frame):
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    return signal.signal(signal.SIGTERM, handler)
+
+
+def terminate_workers(pool: ProcessPoolExecutor, grace_s: float = 5.0) -> None:
+    """Terminate the pool's worker processes now (their runs are lost and stay pending)."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
+    for p in procs:
+        p.join(grace_s)
+        if p.is_alive():
+            p.kill()
 
 
 def usable_cores() -> int:
@@ -45,10 +71,16 @@ def open_executor(scheduler: str | None = None, workers: int | None = None,
     if scheduler is None:
         pool = ProcessPoolExecutor(max_workers=workers or usable_cores(),
                                    mp_context=multiprocessing.get_context("spawn"))
+        previous = _sigterm_interrupts()
         try:
             yield pool
+        except BaseException:  # Ctrl-C, SIGTERM, an error: no worker may outlive the sweep
+            terminate_workers(pool)
+            raise
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
+            if previous is not None:
+                signal.signal(signal.SIGTERM, previous)
         return
     from dask.distributed import Client
 

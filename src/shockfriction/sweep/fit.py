@@ -35,6 +35,7 @@ from scipy.stats import qmc
 
 from shockfriction.deck.base import read_toml
 from shockfriction.errors import DeckError, SimulationError
+from shockfriction.safety import TRUSTED, Trust
 from shockfriction.sweep.design import run_key
 from shockfriction.sweep.executors import open_executor
 from shockfriction.sweep.fitspec import FitSpec, load_fit
@@ -129,7 +130,7 @@ class FitProblem:
     """
 
     def __init__(self, spec: FitSpec, here: Path, executor: Executor, source: str = "fit",
-                 on_evaluation: Callable[[int, dict], None] | None = None):
+                 on_evaluation: Callable[[int, dict], None] | None = None, trust: Trust = TRUSTED):
         self.spec, self.ex, self.source = spec, executor, source
         self.on_evaluation = on_evaluation
         self.params = spec.parameter
@@ -165,7 +166,8 @@ class FitProblem:
         for ds in self.data:
             for what, x in (("the initial values", self.x0), ("the lower bounds", self.lo),
                             ("the upper bounds", self.hi)):
-                check_deck(ds.kind, self.deck_for(ds, x), f"{source}: {ds.name or 'deck'} at {what}", ds.model)
+                check_deck(ds.kind, self.deck_for(ds, x), f"{source}: {ds.name or 'deck'} at {what}", ds.model,
+                           trust)
 
     # --- model runs -------------------------------------------------------------
     def x_of(self, z: np.ndarray) -> np.ndarray:
@@ -283,17 +285,18 @@ def covariance(J: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, list[bool], in
 
 
 def fit(fit_file: str | Path, scheduler: str | None = None, workers: int | None = None,
-        executor: Executor | None = None, on_evaluation: Callable[[int, dict], None] | None = None) -> FitResult:
+        executor: Executor | None = None, on_evaluation: Callable[[int, dict], None] | None = None,
+        trust: Trust = TRUSTED) -> FitResult:
     """Run the fit described by ``fit_file`` and return its result (see the module docstring).
 
     ``on_evaluation(k, point)`` is called after each residual evaluation with the
     parameter values and the residual rms (for progress reports).
     """
-    spec, here = load_fit(fit_file)
+    spec, here = load_fit(fit_file, trust)
     if executor is None:
         with open_executor(scheduler, workers) as ex:
-            return _solve(spec, here, ex, str(fit_file), on_evaluation)
-    return _solve(spec, here, executor, str(fit_file), on_evaluation)
+            return _solve(spec, here, ex, str(fit_file), on_evaluation, trust)
+    return _solve(spec, here, executor, str(fit_file), on_evaluation, trust)
 
 
 def best_start(prob: FitProblem, z0: np.ndarray, starts: int, seed: int) -> tuple[np.ndarray, list[float]]:
@@ -311,8 +314,9 @@ def best_start(prob: FitProblem, z0: np.ndarray, starts: int, seed: int) -> tupl
     return zs[int(np.argmin(costs))], costs
 
 
-def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=None) -> FitResult:
-    prob = FitProblem(spec, here, ex, source, on_evaluation)
+def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=None,
+           trust: Trust = TRUSTED) -> FitResult:
+    prob = FitProblem(spec, here, ex, source, on_evaluation, trust)
     z0 = (prob.x0 - prob.lo) / (prob.hi - prob.lo)
     s = spec.solver
     if s.starts > 1:

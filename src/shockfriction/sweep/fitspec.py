@@ -49,6 +49,7 @@ from pydantic import Field, field_validator, model_validator
 
 from shockfriction.deck.base import DeckModel, read_toml, validate
 from shockfriction.errors import DeckError
+from shockfriction.safety import TRUSTED, Trust, resolve_inside
 from shockfriction.sweep.paths import parse_path
 from shockfriction.sweep.quantities import in_unit, si_factor, split_value
 from shockfriction.sweep.spec import flatten
@@ -173,7 +174,7 @@ class Solver(DeckModel):
 class Dataset(DeckModel):
     """One measured record and the run it is compared with (its own deck, window, shift, noise)."""
 
-    name: str = ""
+    name: str = Field(default="", pattern=r"^[A-Za-z0-9_\-]*$")
     base: str | None = None
     kind: Literal["run", "subgrid", "python"] | None = None
     model: str | None = None
@@ -220,11 +221,14 @@ class FitSpec(DeckModel):
                                         time_shift=self.time_shift, sigma=self.sigma)]
 
 
-def _check_dataset(d: Dataset, where: str, here: Path, path: Path) -> None:
+def _check_dataset(d: Dataset, where: str, here: Path, path: Path, trust: Trust = TRUSTED) -> None:
     if d.kind == "python" and not d.model:
         raise DeckError(f"{path}: {where}kind = 'python' needs model = 'package.module:function'")
     if not d.model and not d.base:
         raise DeckError(f"{path}: {where}base is missing: expected base = 'deck.toml' (relative to the fit file)")
+    if d.base is not None:
+        resolve_inside(here, d.base, f"{where}base", str(path), trust)
+    resolve_inside(here, d.measured.file, f"{where}measured.file", str(path), trust)
     if d.base is not None and not (here / d.base).is_file():
         raise DeckError(f"{path}: {where}base = {d.base!r}: expected a deck file relative to the fit file "
                         f"(looked for {here / d.base})")
@@ -233,7 +237,7 @@ def _check_dataset(d: Dataset, where: str, here: Path, path: Path) -> None:
                         f"file (looked for {here / d.measured.file})")
 
 
-def load_fit(path: str | Path) -> tuple[FitSpec, Path]:
+def load_fit(path: str | Path, trust: Trust = TRUSTED) -> tuple[FitSpec, Path]:
     """Read and validate a fit file; returns the spec and the folder it lives in."""
     path = Path(path)
     spec = validate(FitSpec, read_toml(path), str(path))
@@ -251,7 +255,7 @@ def load_fit(path: str | Path) -> tuple[FitSpec, Path]:
     if len(set(names)) != len(names):
         raise DeckError(f"{path}: dataset names {names}: expected distinct names")
     for k, d in enumerate(spec.datasets()):
-        _check_dataset(d, f"dataset[{k}]." if spec.dataset else "", here, path)
+        _check_dataset(d, f"dataset[{k}]." if spec.dataset else "", here, path, trust)
     cols = [p.column for p in spec.parameter]
     dup = sorted({c for c in cols if cols.count(c) > 1})
     if dup:

@@ -29,14 +29,22 @@ def read_measured(m: Measured, here: Path, source: str = "fit") -> tuple[np.ndar
         t, y = t[inside], y[inside]
     order = np.argsort(t, kind="stable")
     if len(t) < 2:
-        raise DeckError(f"{source}: measured: {len(t)} usable samples in {path} (window {m.window}): "
+        raise DeckError(f"{source}: measured: {len(t)} usable samples in {m.file!r} (window {m.window}): "
                         "expected at least 2")
     return t[order], y[order]
 
 
 def _read_csv(path: Path, m: Measured, source: str) -> tuple[np.ndarray, np.ndarray]:
-    with open(path, newline="") as fh:
-        rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
+    """Columns ``m.time`` and ``m.value`` of a CSV.  Errors never quote the file (it may not be a
+    record at all: a deck must not be able to print a file of the machine through an error)."""
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            rows = [r for r in csv.reader(fh) if r and not r[0].lstrip().startswith("#")]
+    except (UnicodeDecodeError, csv.Error):
+        raise DeckError(f"{source}: measured.file = {m.file!r}: expected a UTF-8 CSV text file") from None
+    except OSError as exc:
+        raise DeckError(f"{source}: measured.file = {m.file!r}: cannot be read "
+                        f"({exc.strerror or type(exc).__name__})") from None
     if not rows:
         raise DeckError(f"{source}: measured.file = {m.file!r}: expected a CSV with a header row, found nothing")
     header = [h.strip() for h in rows[0]]
@@ -44,14 +52,22 @@ def _read_csv(path: Path, m: Measured, source: str) -> tuple[np.ndarray, np.ndar
     for field in ("time", "value"):
         name = getattr(m, field)
         if name not in header:
-            raise DeckError(f"{source}: measured.{field} = {name!r}: expected one of the CSV columns {header}")
+            raise DeckError(f"{source}: measured.{field} = {name!r}: expected a column of the CSV's header row "
+                            f"(the file's header has {len(header)} columns, none of that name)")
         cols.append(header.index(name))
-    try:
-        data = np.array([[float(r[c]) for c in cols] for r in rows[1:]], dtype=np.float64).reshape(-1, 2)
-    except (ValueError, IndexError) as exc:
-        raise DeckError(f"{source}: measured.file = {m.file!r}: expected numbers in columns "
-                        f"{m.time!r} and {m.value!r} ({exc})") from None
-    return data[:, 0], data[:, 1]
+    bad = 0
+    data = []
+    for k, r in enumerate(rows[1:], start=2):
+        try:
+            data.append([float(r[c]) for c in cols])
+        except (ValueError, IndexError):
+            bad = k
+            break
+    if bad:
+        raise DeckError(f"{source}: measured.file = {m.file!r}: expected numbers in columns {m.time!r} and "
+                        f"{m.value!r} (row {bad} of the file is not)")
+    arr = np.array(data, dtype=np.float64).reshape(-1, 2)
+    return arr[:, 0], arr[:, 1]
 
 
 def _read_h5(path: Path, m: Measured, source: str) -> tuple[np.ndarray, np.ndarray]:
@@ -63,7 +79,8 @@ def _read_h5(path: Path, m: Measured, source: str) -> tuple[np.ndarray, np.ndarr
             for field in ("time", "value"):
                 name = getattr(m, field)
                 if name not in g:
-                    raise DeckError(f"{source}: measured.{field} = {name!r}: expected one of {sorted(g)}")
+                    raise DeckError(f"{source}: measured.{field} = {name!r}: expected a dataset of group "
+                                f"{m.group!r} ({len(g)} datasets there, none of that name)")
             return g[m.time][()].astype(np.float64), g[m.value][()].astype(np.float64)
-    except OSError as exc:
-        raise DeckError(f"{source}: measured.file = {m.file!r}: expected an HDF5 file ({exc})") from None
+    except OSError:
+        raise DeckError(f"{source}: measured.file = {m.file!r}: expected an HDF5 file") from None

@@ -23,6 +23,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 
 from shockfriction.errors import DeckError
+from shockfriction.safety import TRUSTED, Trust, check_python
 
 # kind -> module exposing ``check(deck, source)`` and ``run(deck, workdir) -> RunResult``
 ADAPTERS: dict[str, str] = {
@@ -89,10 +90,13 @@ def detect_kind(deck: dict, source: str) -> str:
                     f"expected kind = one of {known_kinds()} in the sweep file")
 
 
-def check_deck(kind: str, deck: dict, source: str, model: str | None = None) -> None:
-    """Validate a deck before any run (DeckError naming field, value and expectation)."""
+def check_deck(kind: str, deck: dict, source: str, model: str | None = None, trust: Trust = TRUSTED) -> None:
+    """Validate a deck before any run (DeckError naming field, value and expectation).
+
+    A Python model is checked for its ``module:function`` form and for ``trust.allow_python``;
+    it is not imported here (validation, ``--dry-run``, runs no user code)."""
     if kind == "python":
-        load_function(model or "", source)
+        check_python(model, "model", source, trust)
         return
     _adapter(kind, source).check(deck, source)
 

@@ -33,6 +33,7 @@ from pydantic import Field, field_validator, model_validator
 
 from shockfriction.deck.base import DeckModel, read_toml, validate
 from shockfriction.errors import DeckError
+from shockfriction.safety import TRUSTED, Trust, resolve_inside
 from shockfriction.sweep.paths import parse_path
 from shockfriction.sweep.quantities import in_unit, split_value
 
@@ -208,11 +209,13 @@ def flatten(table: dict, prefix: str = "") -> dict[str, Any]:
     return out
 
 
-def load_sweep(path: str | Path) -> tuple[SweepSpec, Path]:
+def load_sweep(path: str | Path, trust: Trust = TRUSTED) -> tuple[SweepSpec, Path]:
     """Read and validate a sweep file; returns the spec and the folder it lives in."""
     path = Path(path)
     spec = validate(SweepSpec, read_toml(path), str(path))
     spec.check(str(path))
+    if spec.base is not None:
+        resolve_inside(path.parent, spec.base, "base", str(path), trust)
     if spec.base is not None and not (path.parent / spec.base).is_file():
         raise DeckError(f"{path}: base = {spec.base!r}: expected a deck file relative to the sweep file "
                         f"(looked for {path.parent / spec.base})")

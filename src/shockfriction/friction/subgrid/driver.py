@@ -137,7 +137,8 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
                 theta_s = columns.theta[:, 0]
                 if not np.all(np.isfinite(columns.theta)) or np.any(columns.theta >= mat.melting_temperature):
                     j = int(np.argmax(np.max(columns.theta, axis=1)))
-                    raise SimulationError(f"{source}: column {names[j]!r} reached {columns.theta[j].max()!r} K "
+                    hot = float(columns.theta[j].max())
+                    raise SimulationError(f"{source}: column {names[j]!r} reached {hot:.6g} K "
                                           f"(melting {mat.melting_temperature:g} K) at step {i + 1}, "
                                           f"t = {ends[i]:.6e} s: the imposed flux melts the body")
                 tau = slip_m = slip_l = np.full(n, np.nan)

@@ -179,9 +179,9 @@ class SubgridInterface:
                 & np.isfinite(S) & ((S > 0) | (sig <= 0)))  # a node out of contact may have no area
         if bad.any():
             j = int(np.argmax(bad))
-            raise SimulationError(f"sub-grid step {when}: bad input at node {j}: sigma_n={sig[j]!r}, "
-                                  f"v_free={vf[j]!r}, slip_prev={vp[j]!r}, m_slave={ms[j]!r}, "
-                                  f"m_guide={mg[j]!r}, area={S[j]!r}")
+            raise SimulationError(f"sub-grid step {when}: bad input at node {j}: sigma_n={float(sig[j]):.6g} Pa, "
+                                  f"v_free={float(vf[j]):.6g} m/s, slip_prev={float(vp[j]):.6g} m/s, "
+                                  f"m_slave={float(ms[j]):.6g}, m_guide={float(mg[j]):.6g}, area={float(S[j]):.6g}")
         inv_sum = 1.0 / ms + 1.0 / mg
         k = S * dt * inv_sum  # slip change per unit friction stress
         with np.errstate(divide="ignore", invalid="ignore"):
