@@ -377,7 +377,7 @@ class RunDeck(DeckModel):
         pnames = [p.name for p in self.probes]
         if len(set(pnames)) != len(pnames):
             raise ValueError("probe names must be unique")
-        cells = sum(b.mesh.nx * b.mesh.ny for b in self.bodies)
+        cells = sum(b.mesh.nx * b.mesh.ny for b in self.bodies if not b.from_file)  # file meshes: counted as read
         if cells > MAX_CELLS:
             raise ValueError(f"at most {MAX_CELLS:,} cells in all (nx * ny summed over the bodies), got {cells:,}")
         out = self.output
