@@ -153,6 +153,11 @@ class Viscosity(DeckModel):
     quadratic: float = Field(default=2.0, ge=0.0)
     linear: float = Field(default=0.15, ge=0.0)
     hourglass: float = Field(default=0.1, ge=0.0)
+    #: deviatoric (shear) viscosity Q = 2 rho l (C_L c_S + C_Q^2 l |D'|) D' (shockfriction.hydro.shear_viscosity):
+    #: "elastic" (default) acts in cells below yield, "all" in every cell with strength, "off" nowhere
+    shear: Literal["elastic", "all", "off"] = "elastic"
+    shear_linear: float = Field(default=0.15, ge=0.0, le=2.0)
+    shear_quadratic: float = Field(default=0.0, ge=0.0, le=4.0)
 
 
 class Output(DeckModel):

@@ -39,6 +39,7 @@ import numpy as np
 
 from shockfriction.errors import SimulationError
 from shockfriction.hydro import kernels as K
+from shockfriction.hydro import shear_viscosity as SV
 from shockfriction.hydro.setup import Problem
 
 
@@ -81,6 +82,9 @@ class Simulation:
         self.cl = deck.viscosity.linear
         self.hg = deck.viscosity.hourglass
         self.qedge = deck.viscosity.kind == "edge"
+        visc = deck.viscosity
+        self.shear_visc = (visc.shear != "off" and (visc.shear_linear > 0.0 or visc.shear_quadratic > 0.0))
+        self.shear_visc_args = (visc.shear_linear, visc.shear_quadratic, visc.shear == "elastic")
         threads = deck.threads if threads is None else threads
         self.threads = numba.config.NUMBA_NUM_THREADS if threads == 0 else min(threads, numba.config.NUMBA_NUM_THREADS)
         self.parallel = self.threads > 1
@@ -173,6 +177,10 @@ class Simulation:
         corner = K.corner_forces_parallel if self.parallel else K.corner_forces_serial
         corner(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
                s.axisymmetric, self.hg, self._corner, self._vcorner, self.qedge, self.cq, self.cl)
+        if self.shear_visc:
+            shear = SV.shear_viscosity_parallel if self.parallel else SV.shear_viscosity_serial
+            shear(s.conn, s.x, s.y, s.vx, s.vy, s.rho, s.shear_modulus, s.sxx, s.syy, s.sxy, s.yield_stress,
+                  s.axisymmetric, *self.shear_visc_args, self._corner, self._vcorner)
         if self.parallel:
             K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
         else:
