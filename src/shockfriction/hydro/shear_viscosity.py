@@ -5,11 +5,15 @@ wave of a pressure-shear impact) crosses the mesh undamped and rings (Gibbs over
 ~27% at a free surface).  This viscosity adds to each cell, at t^n with v^{n-1/2}, the
 viscous deviatoric stress
 
-    Q = 2 eta D',   eta = rho l (C_L c_S + C_Q^2 l |D'|),   |D'| = sqrt(2 D':D'),
+    Q = 2 eta D',   eta = phi rho l (C_L c_S + C_Q^2 l |D'|),   |D'| = sqrt(2 D':D'),
+    phi = 1 - (tr L)^2/|L|^2,
 
-with D' the deviatoric strain rate (3D: the hoop rate in axisymmetry), c_S = sqrt(G/rho)
-the shear wave speed, l = sqrt(cell area) and (C_L, C_Q) the deck's ``viscosity.shear_linear``
-and ``shear_quadratic``.  Q vanishes in uniform states (plateaus keep their level) and its
+with D' the deviatoric strain rate (3D: the hoop rate in axisymmetry), L the velocity
+gradient, c_S = sqrt(G/rho) the shear wave speed, l = sqrt(cell area) and (C_L, C_Q) the
+deck's ``viscosity.shear_linear`` and ``shear_quadratic``.  phi is the transverse fraction
+of the gradient: for a plane wave L = a n^T, phi = 1 - (a.n)^2/|a|^2, 1 for a shear wave and
+0 for a longitudinal one (whose front the bulk q already damps: a plane compression front is
+not smeared further).  Q vanishes in uniform states (plateaus keep their level) and its
 power -2 eta D':D' V <= 0 is dissipative.  Its corner forces F_i = -Q b_i go into the
 velocity-dependent corner forces of the cycle, whose work :func:`~shockfriction.hydro.kernels.viscous_heat_serial`
 puts into the cells exactly (the energy books see it as internal energy).
@@ -77,8 +81,19 @@ def _shear_viscosity_impl(conn, x, y, vx, vy, rho, shear, sxx, syy, sxy, yld, ax
         dxx = (bx0 * u0 + bx1 * u1 + bx2 * u2 + bx3 * u3) * inv
         dyy = (by0 * w0 + by1 * w1 + by2 * w2 + by3 * w3) * inv
         dtt = (h0 * u0 + h1 * u1 + h2 * u2 + h3 * u3) * inv
-        dxy = 0.5 * ((by0 * u0 + by1 * u1 + by2 * u2 + by3 * u3) + (bx0 * w0 + bx1 * w1 + bx2 * w2 + bx3 * w3)) * inv
-        dm = (dxx + dyy + dtt) / 3.0
+        uy = (by0 * u0 + by1 * u1 + by2 * u2 + by3 * u3) * inv
+        vxg = (bx0 * w0 + bx1 * w1 + bx2 * w2 + bx3 * w3) * inv
+        dxy = 0.5 * (uy + vxg)
+        trd = dxx + dyy + dtt
+        grad2 = dxx * dxx + dyy * dyy + dtt * dtt + uy * uy + vxg * vxg
+        if grad2 == 0.0:
+            continue
+        # transverse fraction of the velocity gradient: 1 - (tr L)^2/|L|^2 (0 for a plane longitudinal
+        # wave, L = a n n; 1 for a plane shear wave, a . n = 0)
+        phi = 1.0 - trd * trd / grad2
+        if phi <= 0.0:
+            continue
+        dm = trd / 3.0
         exx = dxx - dm
         eyy = dyy - dm
         ett = dtt - dm
@@ -87,7 +102,7 @@ def _shear_viscosity_impl(conn, x, y, vx, vy, rho, shear, sxx, syy, sxy, yld, ax
             continue
         r = rho[c]
         lq = math.sqrt(area)
-        eta = r * lq * (cl * math.sqrt(g / r) + cq * cq * lq * rate)
+        eta = phi * r * lq * (cl * math.sqrt(g / r) + cq * cq * lq * rate)
         qxx = 2.0 * eta * exx
         qyy = 2.0 * eta * eyy
         qtt = 2.0 * eta * ett
