@@ -97,6 +97,7 @@ def refined(args, zc_rate: float) -> None:
     z0, c0, dt0 = mesh_cost(args.cell_um, args.end_us)
     print(f"  {args.cell_um:5.0f} um cells: {z0:>9} zones x {c0:>7} cycles (dt {dt0 * 1e9:.2f} ns) = "
           f"{z0 * c0:.3e} zone-cycles")
+    z20 = c20 = 0
     for cell in (20.0, 2.0):
         if cell == 2.0:  # too many zones to build: scale from the 20 um mesh (zones ~ 1/h^2, cycles ~ 1/h)
             z, c = int(z20 * (20.0 / cell) ** 2), int(c20 * 20.0 / cell)

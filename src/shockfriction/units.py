@@ -6,8 +6,9 @@ only place that parses units; decks use the annotated pydantic types below.
 
 from __future__ import annotations
 
+import dataclasses
 from functools import lru_cache
-from typing import Annotated
+from typing import Annotated, Any
 
 import pint
 from pydantic import BeforeValidator, Field
@@ -74,6 +75,63 @@ def to_si(value: str | float | int, kind: str) -> float:
     return float(q.to(si_unit).magnitude) if si_unit else float(q.to("").magnitude)
 
 
+_BOUNDS = {"gt": ">", "ge": ">=", "lt": "<", "le": "<=", "exclusiveMinimum": ">", "minimum": ">=",
+           "exclusiveMaximum": "<", "maximum": "<="}
+
+
+@dataclasses.dataclass(frozen=True)
+class QuantityValidator(BeforeValidator):
+    """The unit-string validator of one dimension, with its JSON schema.
+
+    A deck gives a string with a unit (``"1 ns"``), so the JSON schema of a deck
+    (``shockfriction schema run``) says ``{"type": "string", "x-dimension": "[time]",
+    "x-si-unit": "s", ...}``; a bound on the SI value (``Field(gt=0)``) becomes
+    ``"x-bound": "> 0 s"``.  Dimensionless values also take bare numbers.
+    """
+
+    kind: str = "dimensionless"
+
+    def __get_pydantic_json_schema__(self, core_schema: Any, handler: Any) -> dict:
+        inner = handler(core_schema)
+        if handler.mode == "serialization":  # a validated deck holds SI floats
+            return {**inner, "x-si-unit": DIMENSIONS[self.kind][1]}
+        return quantity_schema(self.kind, inner)
+
+
+def quantity_schema(kind: str, number_schema: dict | None = None) -> dict:
+    """JSON schema of a value of dimension ``kind``; bounds of ``number_schema`` (SI) kept as text."""
+    dim, si_unit, example = DIMENSIONS[kind]
+    name = kind.replace("_", " ")
+    if kind == "dimensionless":
+        out: dict = {"type": ["number", "string"], "description": f"a number (or a string such as '{example}')"}
+    else:
+        out = {"type": "string", "description": f"a {name} with its unit, such as '{example}'"}
+    out.update({"x-quantity": kind, "x-dimension": dim or "dimensionless", "x-si-unit": si_unit,
+                "examples": [example]})
+    bounds = [f"{_BOUNDS[k]} {v:g}{(' ' + si_unit) if si_unit else ''}"
+              for k, v in (number_schema or {}).items() if k in _BOUNDS]
+    if bounds:
+        out["x-bound"] = " and ".join(bounds)
+    return out
+
+
+def pressure_power_time_to_si(value: str, power: float) -> float:
+    """A quantity of dimension pressure^power x time (the Tuler-Butcher K, e.g. '2.5 GPa^2*us')
+    to SI (Pa^power s)."""
+    if not isinstance(value, str):
+        raise UnitError(f"expected a pressure^{power:g} x time with its unit, such as '1 GPa^{power:g}*us', "
+                        f"got {value!r}")
+    try:
+        q = _parse(value.strip())
+    except Exception as exc:
+        raise UnitError(f"cannot read {value!r} as a quantity ({exc})") from None
+    target = ureg.Quantity(1.0, "Pa") ** power * ureg.Quantity(1.0, "s")
+    if not isinstance(q, pint.Quantity) or q.dimensionality != target.dimensionality:
+        raise UnitError(f"{value!r} is not a pressure^{power:g} x time (lambda = {power:g}), "
+                        f"such as '1 GPa^{power:g}*us'")
+    return float((q / target).to("").magnitude)
+
+
 def quantity(kind: str) -> BeforeValidator:
     """Pydantic validator turning a unit string of ``kind`` (a key of DIMENSIONS) into SI."""
 
@@ -83,7 +141,7 @@ def quantity(kind: str) -> BeforeValidator:
         except UnitError as exc:
             raise ValueError(str(exc)) from None
 
-    return BeforeValidator(check)
+    return QuantityValidator(check, kind=kind)
 
 
 Length = Annotated[float, quantity("length")]

@@ -239,7 +239,7 @@ def test_momentum_conserved_and_energy_balanced(cfg):
     vx_old = vx + rng.normal(0.0, 1.0, vx.size)     # velocities at t^{n-1/2}
     vy_old = vy + rng.normal(0.0, 1.0, vy.size)
     vx_free, vy_free = vx.copy(), vy.copy()
-    if draw_segment_weights := (rng.uniform() < 0.5):
+    if rng.uniform() < 0.5:
         # random multi-node projections (as the mortar-type share gives): weights sum to 1
         k = 4
         gnode = rng.integers(0, guide.size, (ns, k))

@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 from shockfriction.analysis.pressure_shear import pressure_shear
 from shockfriction.cli import app
 from shockfriction.errors import DeckError
-from shockfriction.hydro.api import prepare, run_dict, run_simulation
+from shockfriction.hydro.api import prepare, run_dict
 from shockfriction.io.interface import read_interface
 from shockfriction.materials.library import get_material, heat_share
 

@@ -1,7 +1,6 @@
 """SlideLine on hand-made node rows (no hydrocode): periodic wrapping, persistency on a
 non-matching interface after the Gauss-Seidel sweeps, records and heat bookkeeping."""
 
-import math
 
 import numpy as np
 import pytest

@@ -13,7 +13,6 @@ are exercised.  Exact identity while every node slips: the block's tangential mo
 changes by -mu times the normal impulse through the interface.
 """
 
-import math
 
 import numpy as np
 import pytest

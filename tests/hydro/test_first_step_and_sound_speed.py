@@ -3,7 +3,6 @@ step), a fix found by the verification suite (the ideal-gas sound speed fix is t
 tests/verification/test_hydro_acoustic_order.py)."""
 
 import numpy as np
-import pytest
 
 from shockfriction.hydro.api import prepare, run_dict
 

@@ -9,7 +9,9 @@ import typer
 
 
 def register(app: typer.Typer) -> None:
-    @app.command("fit")
+    from shockfriction.errors import EXIT_CODES
+
+    @app.command("fit", epilog=EXIT_CODES)
     def fit(
         fit_file: Path = typer.Argument(..., help="fit file (TOML): deck, measured record, parameters and bounds"),
         out: Optional[Path] = typer.Option(None, "--out", help="output folder (default: out/<fit file stem>): "
@@ -17,22 +19,28 @@ def register(app: typer.Typer) -> None:
         scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address, e.g. tcp://host:8786"),
         workers: Optional[int] = typer.Option(None, "--workers", help="local pool size (default: all cores); "
                                               "with --scheduler, wait for this many Dask workers"),
+        verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
+        quiet: bool = typer.Option(False, "--quiet", "-q", help="no evaluation lines; log errors only"),
     ) -> None:
         """Fit parameters (and a time shift) by least squares; report values, 1-sigma uncertainties, residual."""
         from rich.console import Console
         from rich.table import Table
 
+        from shockfriction.io.outdir import check_out_path, check_workers
+        from shockfriction.log import configure_logging, verbosity
         from shockfriction.sweep.fit import fit as run_fit
         from shockfriction.sweep.fit import write_outputs
 
+        configure_logging(verbosity(verbose, quiet))
+        check_workers(workers)
+        out_dir = check_out_path(out or Path("out") / fit_file.stem)
         err = Console(stderr=True)
 
         def report(k: int, point: dict) -> None:
             values = ", ".join(f"{n} = {v:.6g}" for n, v in point.items() if n != "rms")
             err.print(f"evaluation {k}: {values}: rms {point['rms']:.4g}", highlight=False)
 
-        res = run_fit(fit_file, scheduler, workers, on_evaluation=report)
-        out_dir = out or Path("out") / fit_file.stem
+        res = run_fit(fit_file, scheduler, workers, on_evaluation=None if quiet else report)
         paths = write_outputs(res, out_dir)
         console = Console()
         table = Table(title=f"fit of {fit_file.name}: {res.message}")

@@ -49,7 +49,8 @@ def register(app: typer.Typer) -> None:
             table.add_column(col)
         table.add_row("interface particle velocity", f"{hydro.particle_velocity:.4f} m/s")
         table.add_row("interface pressure", f"{hydro.pressure / 1e9:.5f} GPa")
-        table.add_row("shock speed in target / flyer", f"{hydro.target_shock_speed:.2f} / {hydro.flyer_shock_speed:.2f} m/s")
+        table.add_row("shock speed in target / flyer",
+                      f"{hydro.target_shock_speed:.2f} / {hydro.flyer_shock_speed:.2f} m/s")
         table.add_row("shocked density target / flyer",
                       f"{hydro.target_density:.2f} / {hydro.flyer_density:.2f} kg/m3")
         console.print(table)

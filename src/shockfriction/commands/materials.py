@@ -32,7 +32,8 @@ def register(app: typer.Typer) -> None:
             table.add_column(col, overflow="fold")
         for key, p in m.parameters.items():
             table.add_row(key, p.text, f"{p.value:.6g}", p.status, p.source)
-        table.add_row("heat capacity (derived)", "", f"{m.heat_capacity:.6g} J/(kg K)", "derived", "c = kappa/(rho0 alpha)")
+        table.add_row("heat capacity (derived)", "", f"{m.heat_capacity:.6g} J/(kg K)", "derived",
+                      "c = kappa/(rho0 alpha)")
         table.add_row("diffusivity (derived)", "", f"{m.diffusivity:.6g} m2/s", "derived", "alpha = kappa/(rho0 c)")
         table.add_row("effusivity (derived)", "", f"{m.effusivity:.6g} W s^0.5/(m2 K)", "derived", "kappa/sqrt(alpha)")
         console.print(table)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import Optional
 
@@ -9,24 +10,35 @@ import typer
 
 
 def register(app: typer.Typer) -> None:
-    @app.command("run")
+    from shockfriction.errors import EXIT_CODES
+
+    @app.command("run", epilog=EXIT_CODES)
     def run(
         deck: Path = typer.Argument(..., help="run deck (TOML); see docs/deck-run.md"),
-        out: Path = typer.Option(Path("out"), "--out", "-o", help="output folder"),
+        out: Path = typer.Option(Path("out"), "--out", "-o", help="output folder (new or empty; see --force)"),
         threads: Optional[int] = typer.Option(None, "--threads", "-t",
                                               help="numba threads (1 = serial kernels, 0 = all); default: deck"),
-        quiet: bool = typer.Option(False, "--quiet", "-q", help="no progress bar"),
+        force: bool = typer.Option(False, "--force", "-f",
+                                   help="reuse a non-empty OUT: delete its previous shockfriction outputs first"),
+        verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
+        quiet: bool = typer.Option(False, "--quiet", "-q", help="no progress bar; log errors only"),
     ) -> None:
         """Run a deck: probes.csv, energy.csv, fields.h5/.xmf and summary.json in OUT."""
         from rich.console import Console
 
         from shockfriction.hydro.api import prepare, run_simulation
+        from shockfriction.io.outdir import check_out_path, check_threads, prepare_out_dir
+        from shockfriction.log import configure_logging, verbosity
 
+        configure_logging(verbosity(verbose, quiet))
+        check_threads(threads)
+        check_out_path(out)
         sim = prepare(deck, threads=threads)
+        prepare_out_dir(out, force=force, restart=False)
         res = run_simulation(sim, out, progress=not quiet)
         s = res.summary
         if not s["completed"]:
-            Console(stderr=True).print(f"[yellow]stopped at max_cycles = {s['cycles']} before the end time[/]")
+            logging.getLogger(__name__).warning("stopped at max_cycles = %d before the end time", s["cycles"])
         Console().print(
             f"{s['cycles']} cycles to t = {s['final_time_s']:.4e} s in {s['wall_time_s']:.2f} s "
             f"({s['zone_cycles_per_second'] or 0:.3g} zone-cycles/s), relative energy error "

@@ -9,11 +9,17 @@ import typer
 
 
 def register(app: typer.Typer) -> None:
-    @app.command("subgrid")
+    from shockfriction.errors import EXIT_CODES
+
+    @app.command("subgrid", epilog=EXIT_CODES)
     def subgrid(
         deck: Path = typer.Argument(..., help="TOML deck (see examples/subgrid/)"),
         out: Optional[Path] = typer.Option(None, "--out", help="output folder (default: out/<deck stem>)"),
         plots: bool = typer.Option(True, "--plots/--no-plots", help="write the PNG figures"),
+        force: bool = typer.Option(False, "--force", "-f",
+                                   help="reuse a non-empty OUT: delete its previous shockfriction outputs first"),
+        verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
+        quiet: bool = typer.Option(False, "--quiet", "-q", help="log errors only"),
     ) -> None:
         """Run the thesis's sub-grid interface model (ch. 7 thermoelastic or ch. 8 thermoelastoplastic)
         under imposed slip velocity and normal stress, or a heat flux alone.
@@ -27,10 +33,14 @@ def register(app: typer.Typer) -> None:
         from shockfriction.deck.base import load_deck
         from shockfriction.deck.subgrid import SubgridDeck
         from shockfriction.friction.subgrid.driver import run_subgrid
+        from shockfriction.io.outdir import check_out_path, prepare_out_dir
+        from shockfriction.log import configure_logging, verbosity
         from shockfriction.plot.subgrid import plot_interface, plot_profiles
 
+        configure_logging(verbosity(verbose, quiet))
+        out_dir = check_out_path(out if out is not None else Path("out") / deck.stem)
         model = load_deck(deck, SubgridDeck)
-        out_dir = out if out is not None else Path("out") / deck.stem
+        prepare_out_dir(out_dir, force=force, restart=False)
         res = run_subgrid(model, out_dir, source=str(deck))
         files = list(res.files)
         if plots:

@@ -9,7 +9,9 @@ import typer
 
 
 def register(app: typer.Typer) -> None:
-    @app.command("sweep")
+    from shockfriction.errors import EXIT_CODES
+
+    @app.command("sweep", epilog=EXIT_CODES)
     def sweep(
         sweep_file: Path = typer.Argument(..., help="sweep file (TOML): base deck, parameters, keep"),
         out: Path = typer.Option(..., "--out", help="output folder: sweep.csv, records.h5, runs/ (the journal)"),
@@ -17,14 +19,20 @@ def register(app: typer.Typer) -> None:
         workers: Optional[int] = typer.Option(None, "--workers", help="local pool size (default: all cores); "
                                               "with --scheduler, wait for this many Dask workers"),
         retry_failed: bool = typer.Option(False, "--retry-failed", help="run again the runs recorded as failed"),
-        quiet: bool = typer.Option(False, "--quiet", help="no progress bar"),
+        verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
+        quiet: bool = typer.Option(False, "--quiet", "-q", help="no progress bar; log errors only"),
         dry_run: bool = typer.Option(False, "--dry-run", help="validate every deck and list the runs; run nothing"),
     ) -> None:
         """Run every deck of a sweep; rerunning the same command resumes an interrupted sweep."""
         from rich.console import Console
 
+        from shockfriction.io.outdir import check_out_path, check_workers
+        from shockfriction.log import configure_logging, verbosity
         from shockfriction.sweep.engine import run_sweep
 
+        configure_logging(verbosity(verbose, quiet))
+        check_workers(workers)
+        check_out_path(out)  # an existing folder is resumed into
         console = Console(stderr=True)
         if dry_run:
             _show_plan(sweep_file, out, retry_failed)

@@ -84,6 +84,8 @@ def _path(mesh, ref, where: str):
         nodes = mesh.side_nodes(ref.body, ref.side)
         cells = mesh.side_cells(ref.body, ref.side)
     except KeyError as exc:
+        if ref.body in mesh.names:  # a file-meshed body without that physical curve
+            raise DeckError(f"{where}.side = {ref.side!r}: {exc.args[0]}") from None
         raise DeckError(f"{where}.body = {ref.body!r}: expected one of the bodies ({exc.args[0]})") from None
     n = nodes.size
     first = ref.first % n if -n <= ref.first < n else None
@@ -109,6 +111,8 @@ _ACROSS = {"bottom": ("left", "right"), "top": ("left", "right"), "left": ("bott
 
 def _periodic_along(body, side: str) -> bool:
     """True when the body is periodic along its side ``side`` (the two sides across it are periodic)."""
+    if side not in _ACROSS:  # a physical curve of a file-meshed body: never periodic
+        return False
     a, b = _ACROSS[side]
     return getattr(body.boundary, a) == "periodic" and getattr(body.boundary, b) == "periodic"
 

@@ -32,14 +32,15 @@ NonNegative = Dimensionless
 
 
 class SideRef(DeckModel):
-    """A path of nodes: a body side (``bottom``, ``right``, ``top``, ``left``), optionally a sub-range.
+    """A path of nodes: a body side (``bottom``, ``right``, ``top``, ``left``; for a body meshed
+    from a gmsh file, a physical curve name), optionally a sub-range.
 
     ``first`` and ``last`` are node positions along the side in its own (counter-clockwise)
     order, counted from 0; negative values count from the end (-1 is the last node).
     """
 
     body: str
-    side: Literal["bottom", "right", "top", "left"]
+    side: str = Field(pattern=r"^[A-Za-z0-9_.\-]+$")
     first: int = 0
     last: int = -1
 

@@ -54,7 +54,6 @@ projected Gauss-Seidel on the contact conditions.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from numba import njit

@@ -35,7 +35,6 @@ from the columns' only where the actual corrected slip differs from the columns'
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 

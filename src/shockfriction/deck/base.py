@@ -43,8 +43,9 @@ def format_validation_error(err: ValidationError, source: str = "deck", raw: dic
     """One line per error: ``source: field.path = <given>: expected <what>``."""
     lines = []
     for e in err.errors(include_url=False):
-        path = _field_path(tuple(p for p in e["loc"] if not (isinstance(p, str) and p.startswith("function-"))))
-        given = _lookup(raw, e["loc"]) if raw is not None else e.get("input")
+        loc = tuple(p for p in e["loc"] if not (isinstance(p, str) and p.startswith(("function-", "kind:"))))
+        path = _field_path(loc)
+        given = _lookup(raw, loc) if raw is not None else e.get("input")
         expected = _EXPECT.get(e["type"]) or e["msg"].removeprefix("Value error, ")
         if e["type"] == "missing":
             lines.append(f"{source}: {path} is missing: expected {expected}")
@@ -77,14 +78,15 @@ def read_toml(path: str | Path) -> dict:
         raise DeckError(f"{path}: not valid TOML: {exc}") from None
 
 
-def validate(model: type[M], data: dict, source: str = "deck") -> M:
-    """Validate ``data`` against ``model``; errors become one readable DeckError."""
+def validate(model: type[M], data: dict, source: str = "deck", folder: str | Path | None = None) -> M:
+    """Validate ``data`` against ``model``; errors become one readable DeckError.  ``folder``:
+    the deck's folder, against which relative file paths in the deck (mesh files) are resolved."""
     try:
-        return model.model_validate(data)
+        return model.model_validate(data, context={"deck_dir": folder} if folder is not None else None)
     except ValidationError as err:
         raise DeckError(format_validation_error(err, source, data)) from None
 
 
 def load_deck(path: str | Path, model: type[M]) -> M:
     """Read and validate a TOML deck."""
-    return validate(model, read_toml(path), str(path))
+    return validate(model, read_toml(path), str(path), Path(path).parent)

@@ -9,14 +9,18 @@ into arrays.  Slide lines (contact/friction between bodies) are the
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
 from typing import Annotated, Literal, Optional, Union
 
-from pydantic import Field, model_validator
+from pydantic import (ConfigDict, Discriminator, Field, Tag, TypeAdapter, ValidationError, ValidationInfo,
+                      field_validator, model_validator)
 
 from shockfriction.contact.deck import SlideLineDeck
 from shockfriction.deck.base import DeckModel
 from shockfriction.units import (
-    Density, Dimensionless, Length, Pressure, PositiveTime, SpecificEnergy, SpecificHeat, Temperature, Velocity,
+    Density, Dimensionless, Length, PositiveLength, PositiveTime, Pressure, SpecificEnergy, SpecificHeat, Temperature,
+    Velocity,
 )
 
 
@@ -59,6 +63,40 @@ class MeshSpec(DeckModel):
         return self
 
 
+class MeshFile(DeckModel):
+    """A body from a gmsh mesh: the physical surface ``group`` of ``file`` (.msh, or .geo meshed by
+    the gmsh API with ``parameters`` set first), coordinates times ``scale`` (length of one file
+    unit).  A relative path is relative to the deck's folder (docs/theory/meshes-and-outputs.md)."""
+
+    file: str = Field(min_length=1)
+    group: str = Field(min_length=1)
+    scale: PositiveLength = 1.0
+    parameters: dict[str, float] = Field(default_factory=dict)
+
+    @field_validator("file")
+    @classmethod
+    def _exists(cls, v: str, info: ValidationInfo) -> str:
+        path = Path(v).expanduser()
+        folder = (info.context or {}).get("deck_dir")
+        if not path.is_absolute() and folder is not None:
+            path = Path(folder) / path
+        if path.suffix not in (".msh", ".geo"):
+            raise ValueError(f"expected a gmsh .msh or .geo file, got {v!r}")
+        if not path.is_file():
+            raise ValueError(f"expected an existing mesh file; {str(path)!r} does not exist")
+        return str(path.resolve())
+
+
+def _mesh_kind(v) -> str:
+    if isinstance(v, dict):
+        return "kind:file" if "file" in v else "kind:block"
+    return "kind:file" if isinstance(v, MeshFile) else "kind:block"
+
+
+AnyMesh = Annotated[Union[Annotated[MeshSpec, Tag("kind:block")], Annotated[MeshFile, Tag("kind:file")]],
+                    Discriminator(_mesh_kind)]
+
+
 class VelocityBC(DeckModel):
     """Prescribed velocity components (a component left out stays free)."""
 
@@ -71,7 +109,12 @@ BoundaryKind = Union[Literal["free", "fixed", "symmetry", "periodic"], VelocityB
 
 
 class Boundary(DeckModel):
-    """Condition of each block side: free (default), fixed, symmetry (roller), periodic, velocity."""
+    """Condition of each block side: free (default), fixed, symmetry (roller), periodic, velocity.
+
+    A body meshed from a file names its sides by physical curve: any key is accepted here and
+    checked against the mesh when the problem is built."""
+
+    model_config = ConfigDict(extra="allow", frozen=True)
 
     bottom: BoundaryKind = "free"
     right: BoundaryKind = "free"
@@ -80,11 +123,35 @@ class Boundary(DeckModel):
 
     @model_validator(mode="after")
     def _periodic_pairs(self):
+        for name, value in (self.__pydantic_extra__ or {}).items():
+            if not re.fullmatch(r"[A-Za-z0-9_.\-]+", name):
+                raise ValueError(f"boundary side {name!r}: expected a physical-curve name (letters, digits, _ . -)")
+            try:
+                self.__pydantic_extra__[name] = _BOUNDARY_KIND.validate_python(value)
+            except ValidationError:
+                raise ValueError(f"boundary.{name} = {value!r}: expected free, fixed, symmetry or "
+                                 "{ type = \"velocity\", vx = ..., vy = ... }") from None
+            if self.__pydantic_extra__[name] == "periodic":
+                raise ValueError(f"boundary.{name} = 'periodic': periodic sides exist only on block meshes")
         for a, b in (("left", "right"), ("bottom", "top")):
             pa, pb = getattr(self, a) == "periodic", getattr(self, b) == "periodic"
             if pa != pb:
                 raise ValueError(f"periodic must be given on both {a} and {b}")
         return self
+
+    def given(self, file_mesh: bool) -> list[tuple[str, BoundaryKind]]:
+        """(side, condition) pairs to apply: the four sides of a block; the named sides of a file mesh."""
+        if not file_mesh:
+            return [(side, getattr(self, side)) for side in SIDE_NAMES]
+        named = [(k, getattr(self, k)) for k in SIDE_NAMES if k in self.model_fields_set]
+        return named + list((self.__pydantic_extra__ or {}).items())
+
+
+_BOUNDARY_KIND = TypeAdapter(BoundaryKind)
+
+
+#: what a Mie-Grueneisen body without a library material must give inline
+CUSTOM_MG_REQUIRED = ("density", "c0", "s", "gamma0", "heat_capacity")
 
 
 class Body(DeckModel):
@@ -93,7 +160,7 @@ class Body(DeckModel):
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_\-]+$")
     material: Optional[str] = None
     eos: Literal["mie-gruneisen", "ideal-gas"] = "mie-gruneisen"
-    strength: Literal["none", "elastic-perfectly-plastic", "scg"] = "none"
+    strength: Literal["none", "elastic", "elastic-perfectly-plastic", "scg"] = "none"
     yield_stress: Optional[PositivePressure] = None
     shear_modulus: Optional[PositivePressure] = None
     elastic_modulus: Literal["pressure-temperature", "constant"] = "pressure-temperature"
@@ -106,16 +173,25 @@ class Body(DeckModel):
     specific_energy: Optional[SpecificEnergy] = None
     heat_capacity: Optional[PositiveSpecificHeat] = None
     pressure_floor: Optional[Pressure] = None
+    eos_tension: Literal["linear", "cubic"] = "linear"
+    spall: Literal["none", "cutoff", "tuler-butcher"] = "none"
+    spall_strength: Optional[PositivePressure] = None
+    tb_sigma0: Optional[Annotated[Pressure, Field(ge=0.0)]] = None
+    tb_lambda: Optional[Annotated[Dimensionless, Field(gt=0.0)]] = None
+    tb_K: Optional[str] = None  # pressure^lambda x time, converted in hydro.setup once lambda is known
     velocity: tuple[Velocity, Velocity] = (0.0, 0.0)
     radial_velocity: Optional[Velocity] = None
     temperature: Annotated[Temperature, Field(gt=0.0)] = 300.0
-    mesh: MeshSpec
+    mesh: AnyMesh
     boundary: Boundary = Field(default_factory=Boundary)
 
     @model_validator(mode="after")
     def _consistent(self):
         if self.eos == "mie-gruneisen" and self.material is None:
-            raise ValueError("a Mie-Grueneisen body needs a library material (material = \"Al6061-T6\", ...)")
+            missing = [k for k in CUSTOM_MG_REQUIRED if getattr(self, k) is None]
+            if missing:
+                raise ValueError("every Mie-Grueneisen property inline when no library material is given; "
+                                 f"missing: {', '.join(missing)} (with units; or give material = \"Al6061-T6\")")
         if self.eos == "ideal-gas":
             missing = [k for k in ("density", "gamma") if getattr(self, k) is None]
             if missing:
@@ -126,11 +202,36 @@ class Body(DeckModel):
                 raise ValueError("an ideal-gas pressure must be positive")
         if self.strength == "scg" and self.material is None:
             raise ValueError("strength = \"scg\" needs a library material")
+        if self.strength == "elastic" and self.material is None and self.shear_modulus is None:
+            raise ValueError("strength = \"elastic\" without a material needs shear_modulus")
+        if self.strength == "elastic" and self.yield_stress is not None:
+            raise ValueError("strength = \"elastic\" has no yield: remove yield_stress (or use "
+                             "\"elastic-perfectly-plastic\")")
+        if self.eos_tension != "linear" and self.eos != "mie-gruneisen":
+            raise ValueError("eos_tension applies to Mie-Grueneisen bodies only")
+        if self.spall != "none" and self.eos != "mie-gruneisen":
+            raise ValueError(f"spall = \"{self.spall}\" needs a Mie-Grueneisen (solid) body")
+        if self.material is None:
+            need = {"cutoff": ("spall_strength",), "tuler-butcher": ("tb_sigma0", "tb_lambda", "tb_K"),
+                    "none": ()}[self.spall]
+            missing = [k for k in need if getattr(self, k) is None]
+            if missing:
+                raise ValueError(f"spall = \"{self.spall}\" without a material needs {', '.join(missing)}")
         if self.strength == "elastic-perfectly-plastic" and self.material is None:
             missing = [k for k in ("yield_stress", "shear_modulus") if getattr(self, k) is None]
             if missing:
                 raise ValueError(f"elastic-perfectly-plastic without a material needs {' and '.join(missing)}")
+        extra = sorted(self.boundary.__pydantic_extra__ or {})
+        if extra and not self.from_file:
+            raise ValueError(f"boundary: {', '.join(extra)}: a block body has only the sides {', '.join(SIDE_NAMES)}")
+        if self.from_file and any(kind == "periodic" for _, kind in self.boundary.given(True)):
+            raise ValueError("boundary: 'periodic' exists only on block meshes (left/right, bottom/top pairs)")
         return self
+
+    @property
+    def from_file(self) -> bool:
+        """True when the body is meshed from a gmsh file (sides named by physical curves)."""
+        return isinstance(self.mesh, MeshFile)
 
 
 class TimeSpec(DeckModel):
@@ -178,7 +279,7 @@ PROBE_QUANTITIES = {
     "x": "m", "y": "m", "vx": "m/s", "vy": "m/s",
     "p": "Pa", "q": "Pa", "sxx": "Pa", "syy": "Pa", "sxy": "Pa", "szz": "Pa",
     "sigma_xx": "Pa", "sigma_yy": "Pa", "sigma_xy": "Pa", "sigma_zz": "Pa",
-    "rho": "kg/m3", "e": "J/kg", "T": "K", "eps_p": "1", "Y": "Pa", "G": "Pa",
+    "rho": "kg/m3", "e": "J/kg", "T": "K", "eps_p": "1", "Y": "Pa", "G": "Pa", "damage": "1",
 }
 NODE_QUANTITIES = ("x", "y", "vx", "vy")
 
@@ -187,24 +288,28 @@ class Probe(DeckModel):
     """A history: node quantities (x, y, vx, vy) at a node, cell quantities in a cell.
 
     Give exactly one of ``node = [i, j]``, ``cell = [i, j]`` (negative indices count
-    from the end) or ``at = [x, y]`` (nearest node / containing cell at t = 0)."""
+    from the end), ``at = [x, y]`` (nearest node / containing cell at t = 0) or
+    ``point = "name"`` (a gmsh physical point of a file-meshed body, then as ``at``)."""
 
     name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_\-]+$")
     body: str
     node: Optional[tuple[int, int]] = None
     cell: Optional[tuple[int, int]] = None
     at: Optional[Point] = None
+    point: Optional[str] = None
     quantities: list[Literal[tuple(PROBE_QUANTITIES)]] = Field(min_length=1)  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _one_place(self):
-        given = [k for k in ("node", "cell", "at") if getattr(self, k) is not None]
+        given = [k for k in ("node", "cell", "at", "point") if getattr(self, k) is not None]
         if len(given) != 1:
-            raise ValueError("give exactly one of node, cell or at")
+            raise ValueError("give exactly one of node, cell, at or point")
         if self.node is not None and any(q not in NODE_QUANTITIES for q in self.quantities):
             raise ValueError(f"a node probe records only {', '.join(NODE_QUANTITIES)}")
         if self.cell is not None and any(q in NODE_QUANTITIES for q in self.quantities):
-            raise ValueError(f"a cell probe records cell quantities only (not {', '.join(NODE_QUANTITIES)})")
+            bad = [q for q in self.quantities if q in NODE_QUANTITIES]
+            raise ValueError(f"a cell probe records cell quantities only, not {', '.join(bad)}: velocities and "
+                             "positions live on nodes; add a probe with node = [i, j] (or at = [x, y])")
         return self
 
 
@@ -227,23 +332,32 @@ class RunDeck(DeckModel):
     @model_validator(mode="after")
     def _references(self):
         names = [b.name for b in self.bodies]
+        by_name = {b.name: b for b in self.bodies}
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ValueError(f"body names must be unique; repeated: {', '.join(sorted(dup))}")
         for k, tie in enumerate(self.ties):
             for ref in tie.sides:
                 body, _, side = ref.partition(".")
-                if body not in names or side not in SIDE_NAMES:
+                if body not in names or not side or (side not in SIDE_NAMES and not by_name[body].from_file):
                     raise ValueError(f"ties[{k}]: {ref!r} is not BODY.SIDE with BODY in {names} and SIDE in "
                                      f"{list(SIDE_NAMES)}")
         for k, p in enumerate(self.probes):
             if p.body not in names:
                 raise ValueError(f"probes[{k}].body = {p.body!r}: no such body ({', '.join(names)})")
+            if by_name[p.body].from_file and (p.node is not None or p.cell is not None):
+                raise ValueError(f"probes[{k}]: body {p.body!r} is meshed from a file: its nodes and cells have no "
+                                 "(i, j); place the probe with at = [x, y] or point = \"physical point\"")
+            if p.point is not None and not by_name[p.body].from_file:
+                raise ValueError(f"probes[{k}].point: body {p.body!r} is a block; point names a gmsh physical point")
         for k, sl in enumerate(self.slide_lines):
             for role in ("guide", "slave"):
                 ref = getattr(sl, role)
                 if ref.body not in names:
                     raise ValueError(f"slide_lines[{k}].{role}.body = {ref.body!r}: no such body ({', '.join(names)})")
+                if ref.side not in SIDE_NAMES and not by_name[ref.body].from_file:
+                    raise ValueError(f"slide_lines[{k}].{role}.side = {ref.side!r}: expected one of "
+                                     f"{', '.join(SIDE_NAMES)} (body {ref.body!r} is a block)")
         if len({sl.name for sl in self.slide_lines}) != len(self.slide_lines):
             raise ValueError("slide line names must be unique")
         pnames = [p.name for p in self.probes]
@@ -251,6 +365,6 @@ class RunDeck(DeckModel):
             raise ValueError("probe names must be unique")
         if self.geometry == "axisymmetric":
             for b in self.bodies:
-                if min(c[0] for c in b.mesh.corners) < 0.0:
+                if not b.from_file and min(c[0] for c in b.mesh.corners) < 0.0:
                     raise ValueError(f"body {b.name!r}: axisymmetric meshes need x = r >= 0")
         return self

@@ -3,6 +3,11 @@
 >>> from shockfriction.hydro.api import run
 >>> res = run("examples/plate_impact_al_250ms.toml")          # doctest: +SKIP
 >>> res.probes["t_s"], res.probes["fs.vy"], res.energy["total"], res.summary
+>>> res.probes_df["fs.vy [m/s]"], res.energy_df["total [J/m]"], res.interface_df   # pandas
+
+Histories come as dicts of arrays (``probes``, ``energy``) and as pandas DataFrames with the
+units in the column names (``probes_df``, ``energy_df``, ``interface_df``, ``columns_df``;
+see :mod:`shockfriction.io.tables`).
 
 ``run_dict(deck_dict, out_dir)`` runs a deck given as a dict (as read from TOML,
 with unit strings), for sweeps.  ``prepare(deck)`` returns the
@@ -13,10 +18,11 @@ interfaces, change the initial state, or step by hand).
 from __future__ import annotations
 
 import json
+import logging
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
@@ -27,10 +33,15 @@ from shockfriction.hydro.setup import build_problem, build_slide_lines
 from shockfriction.hydro.state import State
 from shockfriction.mesh.assembly import Mesh
 
+log = logging.getLogger(__name__)
+if TYPE_CHECKING:
+    import pandas as pd
+
 
 @dataclass
 class Result:
-    """Histories (arrays keyed by column name, time in ``t_s``), final state and summary."""
+    """Histories (arrays keyed by column name, time in ``t_s``), final state and summary;
+    the same histories as DataFrames with units in the column names (``*_df``)."""
 
     probes: dict[str, np.ndarray]
     energy: dict[str, np.ndarray]
@@ -40,13 +51,61 @@ class Result:
     out_dir: Path | None = None
     simulation: Simulation | None = field(default=None, repr=False)
 
+    @property
+    def probes_df(self) -> pd.DataFrame:
+        """Probe histories: ``t [s]``, then ``<probe>.<quantity> [unit]``."""
+        from shockfriction.io.tables import history_frame
 
-def load(deck_or_path: RunDeck | str | Path | dict, source: str | None = None) -> RunDeck:
-    """A validated RunDeck from a model, a TOML path or a dict."""
+        header = probe_header(self.simulation) if self.simulation is not None else list(self.probes)
+        return history_frame(self.probes, header)
+
+    @property
+    def energy_df(self) -> pd.DataFrame:
+        """Energy history: ``t [s]``, ``kinetic [J]``, ... (``[J/m]`` in plane strain)."""
+        from shockfriction.io.tables import history_frame
+
+        return history_frame(self.energy, energy_header(self.state.axisymmetric))
+
+    def _h5(self, name: str, reader):
+        if self.out_dir is not None and (Path(self.out_dir) / name).is_file():
+            return reader(Path(self.out_dir) / name)
+        return None
+
+    @property
+    def interface_df(self) -> pd.DataFrame:
+        """Slide-line records, one row per (line, record time, slave node) (empty without slide lines)."""
+        from shockfriction.io.interface import DATASETS, read_interface
+        from shockfriction.io.tables import interface_frame
+
+        records = self._h5("interface.h5", read_interface)
+        if records is None:  # no output folder: the records kept in memory
+            records = {}
+            for obj in (self.simulation.interfaces if self.simulation is not None else []):
+                rec = getattr(getattr(obj, "line", None), "record", None)
+                if rec is None:
+                    continue
+                arrays = rec.arrays()
+                records[obj.name] = {DATASETS[k]: v for k, v in arrays.items() if k in DATASETS}
+                records[obj.name]["node_index"] = rec.slave_nodes
+        return interface_frame(records)
+
+    @property
+    def columns_df(self) -> pd.DataFrame:
+        """Sub-grid column profiles, one row per (line, time, node, depth); needs ``out_dir``."""
+        from shockfriction.io.columns import read_columns
+        from shockfriction.io.tables import columns_frame
+
+        return columns_frame(self._h5("columns.h5", read_columns) or {})
+
+
+def load(deck_or_path: RunDeck | str | Path | dict, source: str | None = None,
+         folder: str | Path | None = None) -> RunDeck:
+    """A validated RunDeck from a model, a TOML path or a dict (``folder``: where a dict's
+    relative mesh-file paths are resolved; default the current directory)."""
     if isinstance(deck_or_path, RunDeck):
         return deck_or_path
     if isinstance(deck_or_path, dict):
-        return validate(RunDeck, deck_or_path, source or "deck")
+        return validate(RunDeck, deck_or_path, source or "deck", folder)
     return load_deck(deck_or_path, RunDeck)
 
 
@@ -104,6 +163,8 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
 
     out = Path(out_dir) if out_dir is not None else None
     sim.out_dir = out
+    log.info("%d zones, %d nodes, end time %.4g s, %d thread(s), outputs in %s",
+             sim.state.n_cells, sim.state.n_nodes, sim.t_end, sim.threads, out or "(none)")
     writers = []
     fields = None
     if out is not None:
@@ -148,6 +209,9 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
             from shockfriction.contact.build import write_interface_outputs
 
             write_interface_outputs(sim, out)  # slide-line records: interface.h5 + maps
+            from shockfriction.io.tables import write_record_tables
+
+            write_record_tables(out)  # interface.csv, columns.csv
             summary = summarize(sim)
             summary["completed"] = sim.state.t >= sim.t_end * (1 - 1e-12)
             summary["total_wall_time_s"] = time.perf_counter() - started

@@ -167,8 +167,9 @@ class Simulation:
     def _fail(self, cell: int, code: int) -> None:
         s = self.state
         name, i, j = self.mesh.cell_ij(cell)
+        where = f"cell ({i}, {j})" if j >= 0 else f"file cell {i}"
         raise SimulationError(
-            f"body {name!r}, cell ({i}, {j}) [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
+            f"body {name!r}, {where} [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
     def _forces(self) -> None:
@@ -289,7 +290,7 @@ class Simulation:
         update(s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-               self.dvmax, self._dtcell, self._errcell, self.qedge)
+               self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage)
         dtn, bad, code = K.reduce_time_step(self._dtcell, self._errcell)
         if bad >= 0:
             self._fail(bad, code)
@@ -342,7 +343,7 @@ class Simulation:
             "sigma_xy": lambda: s.sxy[i],
             "sigma_zz": lambda: -(s.sxx[i] + s.syy[i]) - s.pressure[i] - s.q[i],
             "rho": lambda: s.rho[i], "e": lambda: s.e[i], "T": lambda: s.temperature[i], "eps_p": lambda: s.eps_p[i],
-            "Y": lambda: s.yield_stress[i], "G": lambda: s.shear_modulus[i],
+            "Y": lambda: s.yield_stress[i], "G": lambda: s.shear_modulus[i], "damage": lambda: s.damage[i],
         }
         return cell[qn]
 

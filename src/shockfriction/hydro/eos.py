@@ -4,7 +4,11 @@ Mie-Grueneisen on a linear Us = c0 + s up Hugoniot (Gamma rho = Gamma0 rho0),
 eta = 1 - rho0/rho, mu = rho/rho0 - 1 (docs/theory.md (hydrocode), sec. EOS)::
 
     compression (eta > 0): P_H = rho0 c0^2 eta/(1 - s eta)^2,  A = P_H (1 - Gamma0 eta/2)
-    tension     (eta <= 0): A = rho0 c0^2 mu
+    tension     (eta <= 0): A = rho0 c0^2 mu                        (linear, default)
+                            A = rho0 c0^2 mu [1 + b2 mu + b3 mu^2]  (cubic, kind EOS_MG_CUBIC)
+                            b2 = 2 s - 1 - Gamma0/2,  b3 = (s - 1)(3 s - 1 - Gamma0)
+      (the cubic is the Taylor expansion of the compression A to O(mu^3): C^2 at mu = 0;
+      docs/theory/spall-and-tension.md)
     B = Gamma0 rho0
 
 Ideal gas: A = 0, B = (gamma - 1) rho.
@@ -21,18 +25,22 @@ import numpy as np
 from numba import njit
 
 from shockfriction.hydro.matprops import (
-    EOS_IDEAL_GAS, N_TABLE, P_C0, P_CV, P_EOS, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_RHO0, P_S, P_T0,
+    EOS_IDEAL_GAS, EOS_MG_CUBIC, N_TABLE, P_C0, P_CV, P_EOS, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_RHO0, P_S, P_T0,
 )
 
 
 @njit(cache=True)
 def eos_ab_s(rho, kind, rho0, c0, s, g0, gamma):
-    """(A, B, dA/drho) of P = A + B e from scalar parameters (kind: 0 Mie-Grueneisen, 1 ideal gas)."""
+    """(A, B, dA/drho) of P = A + B e from scalar parameters (kind: 0 Mie-Grueneisen, 1 ideal gas,
+    2 Mie-Grueneisen with the cubic tension branch)."""
     if kind == EOS_IDEAL_GAS:
         return 0.0, (gamma - 1.0) * rho, 0.0
     k0 = rho0 * c0 * c0
     eta = 1.0 - rho0 / rho
     if eta <= 0.0:
+        if kind == EOS_MG_CUBIC:
+            a, da_dmu = tension_cubic(rho / rho0 - 1.0, k0, s, g0)
+            return a, g0 * rho0, da_dmu / rho0
         return k0 * (rho / rho0 - 1.0), g0 * rho0, c0 * c0
     den = 1.0 - s * eta
     if den <= 1e-6:
@@ -42,6 +50,16 @@ def eos_ab_s(rho, kind, rho0, c0, s, g0, gamma):
     a = ph * (1.0 - 0.5 * g0 * eta)
     da_deta = dph * (1.0 - 0.5 * g0 * eta) - 0.5 * g0 * ph
     return a, g0 * rho0, da_deta * rho0 / (rho * rho)
+
+
+@njit(cache=True)
+def tension_cubic(mu, k0, s, g0):
+    """(A, dA/dmu) of the cubic tension branch A = k0 mu [1 + b2 mu + b3 mu^2], k0 = rho0 c0^2,
+    b2 = 2 s - 1 - Gamma0/2, b3 = (s - 1)(3 s - 1 - Gamma0): the compression branch
+    P_H(eta) (1 - Gamma0 eta/2) expanded in mu to third order (eta = mu/(1 + mu))."""
+    b2 = 2.0 * s - 1.0 - 0.5 * g0
+    b3 = (s - 1.0) * (3.0 * s - 1.0 - g0)
+    return k0 * mu * (1.0 + mu * (b2 + b3 * mu)), k0 * (1.0 + mu * (2.0 * b2 + 3.0 * b3 * mu))
 
 
 @njit(cache=True)

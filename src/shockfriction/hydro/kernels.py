@@ -37,9 +37,11 @@ from shockfriction.hydro.geometry import (
 )
 from shockfriction.hydro.matprops import (
     EOS_IDEAL_GAS, P_C0, P_CV, P_EOS, P_G0, P_G_CONST, P_GAMMA, P_GAMMA0, P_MU_HI, P_MU_LO, P_PMIN, P_RHO0, P_S,
-    P_SCG, P_STRENGTH, P_T0, P_Y0, STRENGTH_EPP, STRENGTH_NONE,
+    P_PSPALL, P_SCG, P_SPALL, P_STRENGTH, P_T0, P_TB_K, P_TB_LAMBDA, P_TB_SIGMA0, P_Y0, SPALL_NONE, STRENGTH_EPP,
+    STRENGTH_NONE,
 )
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
+from shockfriction.hydro.spall import spall_damage
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
 
 def _twin(func, suffix: str):
@@ -386,9 +388,10 @@ def internal_energy(e, e_el, cmass):
 
 def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
-                       qedge):
+                       qedge, dmg):
     """Advance every cell from t^n to t^{n+1}: dtcell[c] = its stable step, errcell[c] = error code.
-    With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here)."""
+    With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here).
+    ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py)."""
     ntab = table.shape[1]
     for c in prange(conn.shape[0]):
         errcell[c] = ERR_NONE
@@ -479,7 +482,8 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         # ---- deviatoric stress: rotation, predictor, radial return
         heat = 0.0
         hnew = 0.0
-        if skind != STRENGTH_NONE:
+        failed = dmg[c] >= 1.0
+        if skind != STRENGTH_NONE and not failed:
             # shear[c] holds G(P^n, T^n) (physical SCG modulus; G0 for EPP), set at the end of the last update
             if skind == STRENGTH_EPP:
                 ratio = 1.0
@@ -550,9 +554,33 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
         p1 = a + b * e1
         pfloor = props[m, P_PMIN]
+        if failed and pfloor < 0.0:
+            pfloor = 0.0  # a failed cell carries no tension
         if p1 < pfloor:
             p1 = pfloor
             e1 = et - (0.5 * (p[c] + p1) + qmid) * dv
+        spk = props[m, P_SPALL]
+        if spk != SPALL_NONE and not failed:
+            dnew = spall_damage(spk, dmg[c], p1, sxx[c], syy[c], sxy[c], dt, props[m, P_PSPALL],
+                                props[m, P_TB_SIGMA0], props[m, P_TB_LAMBDA], props[m, P_TB_K])
+            if dnew >= 1.0:
+                # the cell fails now: its deviator and stored shear energy (as heat) are released,
+                # and the EOS update is redone with no tension (the released energy stays in e)
+                failed = True
+                dnew = 1.0
+                et += e_el[c]
+                e_el[c] = 0.0
+                sxx[c] = 0.0
+                syy[c] = 0.0
+                sxy[c] = 0.0
+                e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
+                p1 = a + b * e1
+                if pfloor < 0.0:
+                    pfloor = 0.0
+                if p1 < pfloor:
+                    p1 = pfloor
+                    e1 = et - (0.5 * (p[c] + p1) + qmid) * dv
+            dmg[c] = dnew
         if not (math.isfinite(e1) and math.isfinite(p1)):
             errcell[c] = ERR_NAN
             continue
@@ -581,7 +609,10 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         temp[c] = t1
         # ---- moduli, flow stress and sound speed at n+1
         c2 = sound_speed2_s(rho1, p1, ekind, rho0, c0, s_, g0, gam)
-        if skind == STRENGTH_EPP:
+        if failed:
+            shear[c] = 0.0
+            yld[c] = 0.0
+        elif skind == STRENGTH_EPP:
             shear[c] = sg0
             yld[c] = y_epp
             c2 += 4.0 * sg0 / (3.0 * rho1)

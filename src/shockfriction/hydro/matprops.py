@@ -12,10 +12,15 @@ import numpy as np
 # EOS kinds
 EOS_MIE_GRUNEISEN = 0
 EOS_IDEAL_GAS = 1
+EOS_MG_CUBIC = 2  # Mie-Grueneisen with the cubic tension branch (docs/theory/spall-and-tension.md)
 # strength kinds
 STRENGTH_NONE = 0
 STRENGTH_EPP = 1
 STRENGTH_SCG = 2
+# spall (failure) models
+SPALL_NONE = 0
+SPALL_CUTOFF = 1  # fails when P < -p_spall
+SPALL_TULER_BUTCHER = 2  # fails when int (sigma_1 - sigma_0)^lambda dt >= K
 
 # columns
 P_EOS = 0
@@ -34,7 +39,12 @@ P_PMIN = 12  # pressure floor (spall cut-off), -inf for none
 P_MU_LO = 13  # isentrope table range in mu = rho/rho0 - 1
 P_MU_HI = 14
 P_SCG = 15  # 9 SCG parameters in materials.library.SCG_ORDER
-N_PROPS = P_SCG + 9
+P_SPALL = P_SCG + 9  # spall model (SPALL_*)
+P_PSPALL = P_SPALL + 1  # spall strength p_spall > 0 (cut-off)
+P_TB_SIGMA0 = P_SPALL + 2  # Tuler-Butcher threshold sigma_0
+P_TB_LAMBDA = P_SPALL + 3  # Tuler-Butcher exponent lambda
+P_TB_K = P_SPALL + 4  # Tuler-Butcher damage constant K (Pa^lambda s)
+N_PROPS = P_SPALL + 5
 
 N_TABLE = 2049
 

@@ -15,9 +15,11 @@ from shockfriction.hydro.kernels import cell_volumes, initial_cell_state, nodal_
 from shockfriction.hydro.state import State
 from shockfriction.materials.library import SCG_ORDER, get_material
 from shockfriction.mesh.assembly import Mesh
-from shockfriction.mesh.block import SIDES, Block
+from shockfriction.mesh.block import Block
+from shockfriction.units import UnitError, pressure_power_time_to_si
 
 IDEAL_GAS_DEFAULT_CV = 718.0  # J/(kg K), air; only used for the reported temperature
+ELASTIC_NO_YIELD = 1e300  # Pa: the flow stress of strength = "elastic" (never reached)
 
 
 @dataclass
@@ -59,8 +61,20 @@ class Problem:
     probes: list[ProbeSpec]
 
 
+def _from_body_or_material(body, mat, field: str, key: str, source: str) -> float:
+    """The body's inline value of ``field``, else the library material's ``key``."""
+    value = getattr(body, field)
+    if value is not None:
+        return value
+    if mat is not None and mat.has(key):
+        return getattr(mat, key)
+    where = f"material {mat.name!r} has no {key}" if mat is not None else "no material is given"
+    raise DeckError(f"{source}: body {body.name!r}: {field} is needed ({where}); give it in the body")
+
+
 def material_row(body, source: str) -> tuple[np.ndarray, np.ndarray]:
-    """Kernel parameter row and isentrope table of one body."""
+    """Kernel parameter row and isentrope table of one body (a library material, overridden by the
+    body's inline values; without a material every property is inline)."""
     row = mp.empty_props(1)[0]
     table = np.zeros(mp.N_TABLE)
     mat = get_material(body.material) if body.material else None
@@ -73,22 +87,18 @@ def material_row(body, source: str) -> tuple[np.ndarray, np.ndarray]:
         row[mp.P_GAMMA] = body.gamma
         row[mp.P_CV] = body.heat_capacity or IDEAL_GAS_DEFAULT_CV
     else:
-        row[mp.P_EOS] = mp.EOS_MIE_GRUNEISEN
-        for col, key, override in ((mp.P_C0, "eos_c0", body.c0), (mp.P_S, "eos_s", body.s),
-                                   (mp.P_GAMMA0, "eos_gamma0", body.gamma0)):
-            if override is not None:
-                row[col] = override
-            elif mat.has(key):
-                row[col] = getattr(mat, key)
-            else:
-                raise DeckError(f"{source}: material {mat.name!r} has no {key}; give it in the body")
-        row[mp.P_RHO0] = body.density if body.density is not None else mat.rho0
+        row[mp.P_EOS] = mp.EOS_MG_CUBIC if body.eos_tension == "cubic" else mp.EOS_MIE_GRUNEISEN
+        for col, key, field in ((mp.P_C0, "eos_c0", "c0"), (mp.P_S, "eos_s", "s"),
+                                (mp.P_GAMMA0, "eos_gamma0", "gamma0"), (mp.P_RHO0, "rho0", "density")):
+            row[col] = _from_body_or_material(body, mat, field, key, source)
         row[mp.P_CV] = body.heat_capacity or mat.heat_capacity
         row[mp.P_MU_LO], row[mp.P_MU_HI], table = isentrope_table(row)
-    if body.strength == "elastic-perfectly-plastic":
+    if body.strength in ("elastic", "elastic-perfectly-plastic"):
         row[mp.P_STRENGTH] = mp.STRENGTH_EPP
-        row[mp.P_G0] = body.shear_modulus if body.shear_modulus is not None else mat.G0
-        row[mp.P_Y0] = body.yield_stress if body.yield_stress is not None else mat.Y0
+        row[mp.P_G0] = _from_body_or_material(body, mat, "shear_modulus", "G0", source)
+        # elastic: no yield (a finite stand-in for infinity, so that Y d_eps = 0 stays 0 in the kernels)
+        row[mp.P_Y0] = ELASTIC_NO_YIELD if body.strength == "elastic" else \
+            _from_body_or_material(body, mat, "yield_stress", "Y0", source)
     elif body.strength == "scg":
         row[mp.P_STRENGTH] = mp.STRENGTH_SCG
         params = mat.scg_params()
@@ -99,6 +109,23 @@ def material_row(body, source: str) -> tuple[np.ndarray, np.ndarray]:
         row[mp.P_SCG:mp.P_SCG + 9] = params
         row[mp.P_G0] = params[SCG_ORDER.index("G0")]
         row[mp.P_G_CONST] = 1.0 if body.elastic_modulus == "constant" else 0.0
+    if body.spall == "cutoff":
+        row[mp.P_SPALL] = mp.SPALL_CUTOFF
+        row[mp.P_PSPALL] = _from_body_or_material(body, mat, "spall_strength", "spall_strength", source)
+    elif body.spall == "tuler-butcher":
+        row[mp.P_SPALL] = mp.SPALL_TULER_BUTCHER
+        row[mp.P_TB_SIGMA0] = _from_body_or_material(body, mat, "tb_sigma0", "tb_sigma0", source)
+        lam = _from_body_or_material(body, mat, "tb_lambda", "tb_lambda", source)
+        row[mp.P_TB_LAMBDA] = lam
+        if body.tb_K is not None:
+            try:
+                row[mp.P_TB_K] = pressure_power_time_to_si(body.tb_K, lam)
+            except UnitError as exc:
+                raise DeckError(f"{source}: bodies.{body.name}.tb_K = {body.tb_K!r}: {exc}") from None
+        else:
+            row[mp.P_TB_K] = _from_body_or_material(body, mat, "tb_K", "tb_K", source)
+        if not row[mp.P_TB_K] > 0.0:
+            raise DeckError(f"{source}: bodies.{body.name}.tb_K: must be positive")
     return row, table
 
 
@@ -139,7 +166,8 @@ def _union_find_groups(n: int, pairs: list[tuple[int, int]]) -> Groups:
 def _match_tie(mesh: Mesh, ref_a: str, ref_b: str, source: str) -> list[tuple[int, int]]:
     ba, _, sa = ref_a.partition(".")
     bb, _, sb = ref_b.partition(".")
-    na, nb = mesh.side_nodes(ba, sa), mesh.side_nodes(bb, sb)
+    na = _side_nodes(mesh, ba, sa, f"{source}: tie {ref_a}")
+    nb = _side_nodes(mesh, bb, sb, f"{source}: tie {ref_b}")
     if len(na) != len(nb):
         raise DeckError(f"{source}: tie {ref_a} / {ref_b}: the sides have {len(na)} and {len(nb)} nodes; "
                         "a tie needs matching nodes")
@@ -157,6 +185,13 @@ def _probe(deck: RunDeck, mesh: Mesh, k: int, source: str) -> list[ProbeSpec]:
     p = deck.probes[k]
     b = mesh.body_index(p.body)
     blk = mesh.blocks[b]
+    if p.point is not None:
+        try:
+            at = blk.point(p.point)
+        except KeyError as exc:
+            raise DeckError(f"{source}: probes[{k}].point = {p.point!r}: {exc.args[0]}") from None
+    else:
+        at = p.at
     node_q = [q for q in p.quantities if q in NODE_QUANTITIES]
     cell_q = [q for q in p.quantities if q not in NODE_QUANTITIES]
     out = []
@@ -173,7 +208,7 @@ def _probe(deck: RunDeck, mesh: Mesh, k: int, source: str) -> list[ProbeSpec]:
                             f"cells of body {p.body!r}")
         out.append(ProbeSpec(p.name, "cell", mesh.cell_index(b, i, j), cell_q))
     else:
-        px, py = p.at
+        px, py = at
         s0, s1 = mesh.node_start[b], mesh.node_start[b + 1]
         if node_q:
             d = np.hypot(mesh.x[s0:s1] - px, mesh.y[s0:s1] - py)
@@ -187,12 +222,39 @@ def _probe(deck: RunDeck, mesh: Mesh, k: int, source: str) -> list[ProbeSpec]:
     return out
 
 
+def _block(body, source: str):
+    """The mesh block of a body: a mapped quad, or a physical surface of a gmsh file."""
+    m = body.mesh
+    if not body.from_file:
+        return Block.from_outline(m.corners, m.nx, m.ny, m.sides, m.ratio_x, m.ratio_y)
+    from shockfriction.mesh.gmsh import MeshFileError, load_block
+
+    try:
+        return load_block(m.file, m.group, m.scale, m.parameters)
+    except MeshFileError as exc:
+        raise DeckError(f"{source}: bodies.{body.name}.mesh: {exc}") from None
+
+
+def _side_nodes(mesh: Mesh, body: str, side: str, where: str) -> np.ndarray:
+    try:
+        return mesh.side_nodes(body, side)
+    except KeyError as exc:
+        raise DeckError(f"{where}: {exc.args[0]}") from None
+    except ValueError as exc:  # MeshFileError: a side that is not one boundary path
+        raise DeckError(f"{where}: {exc}") from None
+
+
 def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     """Mesh every body, number globally, set initial state, constraints, groups, probes."""
-    blocks = [Block.from_outline(b.mesh.corners, b.mesh.nx, b.mesh.ny, b.mesh.sides, b.mesh.ratio_x,
-                                 b.mesh.ratio_y) for b in deck.bodies]
+    blocks = [_block(b, source) for b in deck.bodies]
     names = [b.name for b in deck.bodies]
     mesh = Mesh(names, blocks)
+    if deck.geometry == "axisymmetric":
+        for k, b in enumerate(deck.bodies):
+            s0, s1 = mesh.node_start[k], mesh.node_start[k + 1]
+            if b.from_file and mesh.x[s0:s1].min() < -1e-12 * max(np.abs(mesh.x).max(), 1e-300):
+                raise DeckError(f"{source}: bodies.{b.name}.mesh: axisymmetric meshes need x = r >= 0 "
+                                f"(min x = {mesh.x[s0:s1].min():.6g} m)")
     axi = deck.geometry == "axisymmetric"
     nb = len(deck.bodies)
     props = mp.empty_props(nb)
@@ -205,7 +267,8 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     if np.any(vol <= 0.0):
         c = int(np.argmin(vol))
         name, i, j = mesh.cell_ij(c)
-        raise DeckError(f"{source}: body {name!r}: cell ({i}, {j}) has a non-positive volume at t = 0 "
+        where = f"cell ({i}, {j})" if j >= 0 else f"file cell {i}"
+        raise DeckError(f"{source}: body {name!r}: {where} has a non-positive volume at t = 0 "
                         "(check the corners' order and the side polylines)")
     rho = props[mat, mp.P_RHO0].copy()
     cmass = rho * vol
@@ -260,9 +323,10 @@ def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     # ---- boundary constraints (symmetry first, then prescribed velocity, then fixed)
     rows: dict[int, list] = {0: [], 1: [], 2: []}
     for k, body in enumerate(deck.bodies):
-        for side in SIDES:
-            kind = getattr(body.boundary, side)
-            nodes = mesh.side_nodes(k, side)
+        for side, kind in body.boundary.given(body.from_file):
+            if kind == "free" or kind == "periodic":
+                continue
+            nodes = _side_nodes(mesh, body.name, side, f"{source}: bodies.{body.name}.boundary.{side}")
             if kind == "symmetry":
                 nxn, nyn = _side_normal(mesh, body.name, side, source)
                 rows[0] += [(n, nxn, nyn, 0.0) for n in nodes]

@@ -15,7 +15,8 @@ compression positive), ``q`` (artificial viscosity), deviator ``sxx, syy, sxy``
 plastic strain), ``temperature``, ``shear_modulus`` (G(P, T) of SCG, G0 for
 elastic-perfectly-plastic, 0 without strength or molten), ``yield_stress`` (the
 flow stress Y(eps_p, P, T) of the current state, the thesis's Y^n for the friction
-laws), ``sound_speed`` (longitudinal), ``mat`` (row of ``props``; one row per body).
+laws), ``sound_speed`` (longitudinal), ``damage`` (spall damage, failed when >= 1:
+hydro/spall.py), ``mat`` (row of ``props``; one row per body).
 All cell values are at t^n; after an interface adds heat to ``e`` the temperature
 follows at the next cell update.
 
@@ -92,6 +93,7 @@ class State:
     shear_modulus: np.ndarray = None
     yield_stress: np.ndarray = None
     sound_speed: np.ndarray = None
+    damage: np.ndarray = None
     t: float = 0.0
     cycle: int = 0
     dt: float = 0.0
@@ -108,7 +110,7 @@ class State:
             if getattr(self, name) is None:
                 setattr(self, name, np.zeros(nn))
         for name in ("e_el", "pressure", "q", "sxx", "syy", "sxy", "eps_p", "temperature", "shear_modulus",
-                     "yield_stress", "sound_speed"):
+                     "yield_stress", "sound_speed", "damage"):
             if getattr(self, name) is None:
                 setattr(self, name, np.zeros(nc))
 

@@ -1,21 +1,32 @@
-"""Fields at output times: one HDF5 file (``fields.h5``) and an XDMF index
-(``fields.xmf``) that ParaView opens as a time series of quad meshes.
+"""Fields at output times: one HDF5 file (``fields.h5``) and an XDMF3 index
+(``fields.xmf``) that ParaView and ``meshio.xdmf.TimeSeriesReader`` open as a time series
+of quad meshes.
 
 Layout of ``fields.h5``: ``/connectivity`` (cells x 4), ``/body`` (cell body
-index), and per output ``/step_NNNNN/`` with node arrays ``x, y, vx, vy`` and cell
-arrays ``rho, p, q, e, T, eps_p, sxx, syy, sxy, szz, Y`` (SI), attribute ``time``.
-The HDF5 file is flushed after every output and closed on failure.
+index), and per output ``/step_NNNNN/`` with node arrays ``x, y, vx, vy``, ``xy``
+(nodes x 2, the XDMF geometry) and cell arrays ``rho, p, q, e, T, eps_p, sxx, syy,
+sxy, szz, Y, damage`` (SI; damage >= 1: failed by spall), attribute ``time``.
+The HDF5 file is flushed after every output and closed on failure; ``fields.xmf`` is
+rewritten whole (atomically) after every output.
+
+``fields.xmf``: a temporal collection of uniform grids, each with its own Geometry
+``XY`` (the Lagrangian mesh moves), Topology ``Quadrilateral``, node attributes
+(``vx, vy`` and the current ``x, y``) and cell attributes; meshio reads the geometry of
+the first output (its points) and every output's attributes (``x, y`` give the motion).
 """
 
 from __future__ import annotations
 
+import os
+import tempfile
 from pathlib import Path
 
 import h5py
 import numpy as np
 
 CELL_FIELDS = {"rho": "rho", "p": "pressure", "q": "q", "e": "e", "T": "temperature", "eps_p": "eps_p",
-               "sxx": "sxx", "syy": "syy", "sxy": "sxy", "Y": "yield_stress"}
+               "sxx": "sxx", "syy": "syy", "sxy": "sxy", "Y": "yield_stress",
+               "damage": "damage"}
 
 
 class FieldWriter:
@@ -58,6 +69,7 @@ class FieldWriter:
         g.attrs["cycle"] = s.cycle
         g.create_dataset("x", data=s.x)
         g.create_dataset("y", data=s.y)
+        g.create_dataset("xy", data=np.column_stack([s.x, s.y]))
         g.create_dataset("vx", data=0.5 * (sim._vx_old + s.vx))
         g.create_dataset("vy", data=0.5 * (sim._vy_old + s.vy))
         for name, attr in CELL_FIELDS.items():
@@ -69,34 +81,7 @@ class FieldWriter:
         self._write_xdmf(s.n_cells)
 
     def _write_xdmf(self, n_cells: int) -> None:
-        nn = self._n_nodes
-        h5 = "fields.h5"
-        lines = ['<?xml version="1.0" ?>', '<Xdmf Version="3.0">', "<Domain>",
-                 '<Grid Name="series" GridType="Collection" CollectionType="Temporal">']
-        for k, t in self._written:
-            step = f"step_{k:05d}"
-            lines += [f'<Grid Name="{step}" GridType="Uniform">', f'<Time Value="{t:.12e}"/>',
-                      f'<Topology TopologyType="Quadrilateral" NumberOfElements="{n_cells}">',
-                      f'<DataItem Dimensions="{n_cells} 4" NumberType="Int" Precision="8" Format="HDF">'
-                      f"{h5}:/connectivity</DataItem>", "</Topology>",
-                      '<Geometry GeometryType="X_Y">']
-            for c in ("x", "y"):
-                lines.append(f'<DataItem Dimensions="{nn}" NumberType="Float" Precision="8" Format="HDF">'
-                             f"{h5}:/{step}/{c}</DataItem>")
-            lines.append("</Geometry>")
-            for name in ("vx", "vy"):
-                lines += [f'<Attribute Name="{name}" AttributeType="Scalar" Center="Node">',
-                          f'<DataItem Dimensions="{nn}" NumberType="Float" Precision="8" Format="HDF">'
-                          f"{h5}:/{step}/{name}</DataItem>", "</Attribute>"]
-            for name in list(CELL_FIELDS) + ["szz"]:
-                lines += [f'<Attribute Name="{name}" AttributeType="Scalar" Center="Cell">',
-                          f'<DataItem Dimensions="{n_cells}" NumberType="Float" Precision="8" Format="HDF">'
-                          f"{h5}:/{step}/{name}</DataItem>", "</Attribute>"]
-            lines += [f'<Attribute Name="body" AttributeType="Scalar" Center="Cell">',
-                      f'<DataItem Dimensions="{n_cells}" NumberType="Int" Precision="8" Format="HDF">'
-                      f"{h5}:/body</DataItem>", "</Attribute>", "</Grid>"]
-        lines += ["</Grid>", "</Domain>", "</Xdmf>"]
-        (self.out_dir / "fields.xmf").write_text("\n".join(lines) + "\n")
+        write_text_atomic(self.out_dir / "fields.xmf", xdmf_text("fields.h5", self._written, self._n_nodes, n_cells))
 
     def close(self, sim=None) -> None:
         """Write the final state if an output time was reached at the end, then close the file."""
@@ -106,3 +91,44 @@ class FieldWriter:
             self.write(sim)
         if self._h5.id.valid:
             self._h5.close()
+
+
+def write_text_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file and ``os.replace`` (a reader never
+    sees a half-written file)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _item(h5: str, path: str, dims: str, kind: str = "Float") -> str:
+    return (f'<DataItem Dimensions="{dims}" NumberType="{kind}" Precision="8" Format="HDF">'
+            f"{h5}:{path}</DataItem>")
+
+
+def xdmf_text(h5: str, written: list[tuple[int, float]], n_nodes: int, n_cells: int) -> str:
+    """The whole XDMF3 document of the outputs ``written`` ((step, time) pairs) in ``h5``."""
+    lines = ['<?xml version="1.0" ?>', '<Xdmf Version="3.0">', "<Domain>",
+             '<Grid Name="fields" GridType="Collection" CollectionType="Temporal">']
+    for k, t in written:
+        step = f"step_{k:05d}"
+        lines += [f'<Grid Name="{step}" GridType="Uniform">', f'<Time Value="{t:.12e}"/>',
+                  f'<Topology TopologyType="Quadrilateral" NumberOfElements="{n_cells}">',
+                  _item(h5, "/connectivity", f"{n_cells} 4", "Int"), "</Topology>",
+                  '<Geometry GeometryType="XY">', _item(h5, f"/{step}/xy", f"{n_nodes} 2"), "</Geometry>"]
+        for name in ("vx", "vy", "x", "y"):
+            lines += [f'<Attribute Name="{name}" AttributeType="Scalar" Center="Node">',
+                      _item(h5, f"/{step}/{name}", f"{n_nodes}"), "</Attribute>"]
+        for name in list(CELL_FIELDS) + ["szz"]:
+            lines += [f'<Attribute Name="{name}" AttributeType="Scalar" Center="Cell">',
+                      _item(h5, f"/{step}/{name}", f"{n_cells}"), "</Attribute>"]
+        lines += ['<Attribute Name="body" AttributeType="Scalar" Center="Cell">',
+                  _item(h5, "/body", f"{n_cells}", "Int"), "</Attribute>", "</Grid>"]
+    lines += ["</Grid>", "</Domain>", "</Xdmf>"]
+    return "\n".join(lines) + "\n"

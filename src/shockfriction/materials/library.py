@@ -18,6 +18,9 @@ scg_h               inverse_temperature SCG thermal softening of G (thesis h_The
 scg_xi              dimensionless   melt softening exp(-xi T/(T_F - T)) (Ball & Winter)
 eos_c0, eos_s       velocity, -     linear Us = c0 + s up Hugoniot
 eos_gamma0          dimensionless   Grueneisen coefficient (Gamma rho = const)
+spall_strength      pressure        spall strength p_spall of the cut-off model
+tb_sigma0, tb_lambda pressure, -    Tuler-Butcher threshold and exponent
+tb_K                pressure^lambda x time  Tuler-Butcher damage constant (e.g. "1 GPa^2*us")
 ==================  ==============  ==============================================
 """
 
@@ -32,7 +35,7 @@ import numpy as np
 
 from shockfriction.deck.base import read_toml
 from shockfriction.errors import DeckError
-from shockfriction.units import UnitError, to_si
+from shockfriction.units import UnitError, pressure_power_time_to_si, to_si
 
 PARAMETER_KINDS: dict[str, str] = {
     "rho0": "density",
@@ -51,6 +54,10 @@ PARAMETER_KINDS: dict[str, str] = {
     "eos_c0": "velocity",
     "eos_s": "dimensionless",
     "eos_gamma0": "dimensionless",
+    "spall_strength": "pressure",
+    "tb_sigma0": "pressure",
+    "tb_lambda": "dimensionless",
+    "tb_K": "pressure^lambda x time",
 }
 REQUIRED = ("rho0", "conductivity", "melting_temperature", "G0", "Y0", "Ymax",
             "scg_beta", "scg_n", "scg_g", "scg_h", "scg_xi")
@@ -178,10 +185,16 @@ def parse_material(raw: dict, source: str = "material file") -> Material:
             raise DeckError(f"{source}: {key}.status = {entry['status']!r}: expected one of {STATUSES}")
         kind = PARAMETER_KINDS[key]
         try:
-            value = to_si(entry["value"], kind)
+            if key == "tb_K":
+                if "tb_lambda" not in raw:
+                    raise UnitError("tb_K needs tb_lambda (its unit is pressure^lambda x time)")
+                value = pressure_power_time_to_si(entry["value"], to_si(raw["tb_lambda"]["value"], "dimensionless"))
+            else:
+                value = to_si(entry["value"], kind)
         except UnitError as exc:
             raise DeckError(f"{source}: {key}.value = {entry['value']!r}: {exc}") from None
-        unit = str(entry["value"]).split(maxsplit=1)[1] if isinstance(entry["value"], str) and " " in entry["value"].strip() else ""
+        has_unit = isinstance(entry["value"], str) and " " in entry["value"].strip()
+        unit = str(entry["value"]).split(maxsplit=1)[1] if has_unit else ""
         params[key] = Parameter(value, str(entry["value"]), unit, entry["source"], entry["status"])
     missing = [k for k in REQUIRED if k not in params]
     if not ("diffusivity" in params or "heat_capacity" in params):

@@ -1,5 +1,8 @@
 """Several blocks (one per body) numbered into one global mesh.
 
+A block is a structured :class:`~shockfriction.mesh.block.Block` or a body read from a gmsh
+file (:class:`~shockfriction.mesh.gmsh.FileBlock`: sides named by physical curves, no (i, j)).
+
 Body b owns the contiguous node range ``node_start[b] : node_start[b+1]`` and
 cell range ``cell_start[b] : cell_start[b+1]``; the block's local numbering
 (:mod:`shockfriction.mesh.block`) is kept inside each range.  Nodes are never
@@ -71,26 +74,33 @@ class Mesh:
         return self.blocks[b].side_cells(side) + self.cell_start[b]
 
     def node_index(self, body: str | int, i: int, j: int) -> int:
-        """Global index of node (i, j) of a body (negative i, j count from the end)."""
+        """Global index of node (i, j) of a block body (negative i, j count from the end)."""
         b = self.body_index(body)
         blk = self.blocks[b]
+        if blk.nx is None:
+            raise KeyError(f"body {self.names[b]!r} is meshed from a file: its nodes have no (i, j)")
         i = i % (blk.nx + 1)
         j = j % (blk.ny + 1)
         return int(self.node_start[b] + j * (blk.nx + 1) + i)
 
     def cell_index(self, body: str | int, i: int, j: int) -> int:
-        """Global index of cell (i, j) of a body (negative i, j count from the end)."""
+        """Global index of cell (i, j) of a block body (negative i, j count from the end)."""
         b = self.body_index(body)
         blk = self.blocks[b]
+        if blk.nx is None:
+            raise KeyError(f"body {self.names[b]!r} is meshed from a file: its cells have no (i, j)")
         i = i % blk.nx
         j = j % blk.ny
         return int(self.cell_start[b] + j * blk.nx + i)
 
     def cell_ij(self, cell: int) -> tuple[str, int, int]:
-        """(body name, i, j) of a global cell index."""
+        """(body name, i, j) of a global cell index; (body name, local index, -1) in a body
+        meshed from a file (its cells have no (i, j))."""
         b = int(self.cell_body[cell])
         local = int(cell - self.cell_start[b])
         nx = self.blocks[b].nx
+        if nx is None:
+            return self.names[b], local, -1
         return self.names[b], local % nx, local // nx
 
     def node_ij(self, node: int) -> tuple[str, int, int]:
@@ -98,6 +108,8 @@ class Mesh:
         b = int(self.node_body[node])
         local = int(node - self.node_start[b])
         nx = self.blocks[b].nx
+        if nx is None:
+            return self.names[b], local, -1
         return self.names[b], local % (nx + 1), local // (nx + 1)
 
 

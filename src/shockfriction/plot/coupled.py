@@ -6,14 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+from shockfriction.plot import subplots
 
 
 def plot_subgrid_interface(interface_h5: str | Path, out_dir: str | Path) -> list[Path]:
@@ -22,7 +15,6 @@ def plot_subgrid_interface(interface_h5: str | Path, out_dir: str | Path) -> lis
     the plastic slip."""
     from shockfriction.io.interface import read_interface
 
-    plt = _pyplot()
     out_dir = Path(out_dir)
     written = []
     for name, d in read_interface(interface_h5).items():
@@ -35,7 +27,7 @@ def plot_subgrid_interface(interface_h5: str | Path, out_dir: str | Path) -> lis
                   ("slip_mps", "macroscopic slip rate (m/s)", "RdBu_r", None),
                   ("slip_local_mps", "local slip |[v]| (m/s)", "viridis", None),
                   ("slip_plastic_mps", "plastic slip rate (m/s)", "viridis", None)]
-        fig, axes = plt.subplots(1, len(panels), figsize=(4.3 * len(panels), 3.8), constrained_layout=True)
+        fig, axes = subplots(1, len(panels), figsize=(4.3 * len(panels), 3.8), constrained_layout=True)
         for ax, (key, label, cmap, lim) in zip(axes, panels):
             z = d[key]
             kw = {}
@@ -57,7 +49,6 @@ def plot_subgrid_interface(interface_h5: str | Path, out_dir: str | Path) -> lis
                      f"(mu0 = {d['attrs'].get('mu0', np.nan):g}, f = {d['attrs'].get('f', np.nan):g})")
         path = out_dir / f"subgrid_{name}.png"
         fig.savefig(path, dpi=110)
-        plt.close(fig)
         written.append(path)
     return written
 
@@ -66,14 +57,15 @@ def plot_columns(columns_h5: str | Path, out_dir: str | Path) -> list[Path]:
     """Per slide line: ``columns_<name>.png``, T(z) and eps_p(z) of the chosen nodes at the profile times."""
     from shockfriction.io.columns import read_columns
 
-    plt = _pyplot()
     out_dir = Path(out_dir)
     written = []
     for name, d in read_columns(columns_h5).items():
         z_um = d["z_m"] * 1e6
         t = d["t_s"]
-        fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
-        cmap = plt.get_cmap("viridis")
+        fig, axes = subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+        from matplotlib import colormaps
+
+        cmap = colormaps["viridis"]
         shown = np.unique(np.linspace(0, t.size - 1, min(t.size, 8)).round().astype(int))
         for k, node in enumerate(d["node"]):
             for m in shown:
@@ -91,6 +83,5 @@ def plot_columns(columns_h5: str | Path, out_dir: str | Path) -> list[Path]:
                      "(line style: node, colour: time)")
         path = out_dir / f"columns_{name}.png"
         fig.savefig(path, dpi=110)
-        plt.close(fig)
         written.append(path)
     return written

@@ -21,10 +21,7 @@ PANELS = (
 
 def plot_interface(data: dict[str, dict[str, np.ndarray]], out_dir: str | Path) -> list[Path]:
     """One PNG per slide line in ``out_dir``: a node-by-time map per recorded quantity."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from shockfriction.plot import subplots
 
     out_dir = Path(out_dir)
     written = []
@@ -33,7 +30,7 @@ def plot_interface(data: dict[str, dict[str, np.ndarray]], out_dir: str | Path) 
         if t_us.size == 0:
             continue
         nodes = np.arange(d["sigma_n_Pa"].shape[1])
-        fig, axes = plt.subplots(1, len(PANELS), figsize=(4.2 * len(PANELS), 3.6), constrained_layout=True)
+        fig, axes = subplots(1, len(PANELS), figsize=(4.2 * len(PANELS), 3.6), constrained_layout=True)
         paired = d["active"].astype(bool) if "active" in d else np.ones(d[PANELS[0][0]].shape, bool)
         for ax, (key, label, scale, cmap) in zip(axes, PANELS):
             z = np.where(paired, d[key] * scale, np.nan)
@@ -54,6 +51,5 @@ def plot_interface(data: dict[str, dict[str, np.ndarray]], out_dir: str | Path) 
         fig.suptitle(f"slide line {name}")
         path = out_dir / f"interface_{name}.png"
         fig.savefig(path, dpi=110)
-        plt.close(fig)
         written.append(path)
     return written

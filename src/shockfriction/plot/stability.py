@@ -19,15 +19,12 @@ def plot_stability_limit(materials: Sequence, path: str | Path, pressures: Seque
     form, which does not depend on temperature or pressure.  ``marker`` = (theta, P)
     marks the operating point.  Writes a PNG (matplotlib Agg) and returns its path.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from shockfriction.plot import subplots
 
     from shockfriction.analysis.stability import ScgConstants, max_stable_strain
 
     path = Path(path)
-    fig, axes = plt.subplots(1, len(materials), figsize=(5.2 * len(materials), 4.0), squeeze=False)
+    fig, axes = subplots(1, len(materials), figsize=(5.2 * len(materials), 4.0), squeeze=False)
     for ax, m in zip(axes[0], materials):
         c = ScgConstants.of(m)
         # geometric spacing of T_F - theta: the limit drops steeply just below melting. The
@@ -52,5 +49,4 @@ def plot_stability_limit(materials: Sequence, path: str | Path, pressures: Seque
         ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return path

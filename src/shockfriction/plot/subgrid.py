@@ -6,20 +6,12 @@ from pathlib import Path
 
 import numpy as np
 
-
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+from shockfriction.plot import subplots
 
 
 def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title: str = "") -> Path:
     """Interface temperature and friction stress against time, one curve per column (Figs. 7.8-7.9)."""
-    plt = _pyplot()
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    fig, (ax1, ax2) = subplots(2, 1, figsize=(7, 6.5), sharex=True)
     tus = np.asarray(t) * 1e6
     for k, name in enumerate(names):
         ax1.plot(tus, theta[:, k], label=name)
@@ -36,14 +28,12 @@ def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title:
         fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path
 
 
 def plot_profiles(z, times, profiles, eps_profiles, path: Path, column: int = 0, title: str = "") -> Path:
     """Temperature and plastic strain through the layer at the output times (Fig. 7.5-7.7, 8.4)."""
-    plt = _pyplot()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(10, 4.2))
     zum = np.asarray(z) * 1e6
     for t, th, ep in zip(times, profiles, eps_profiles):
         label = f"{t * 1e6:.3g} us"
@@ -62,5 +52,4 @@ def plot_profiles(z, times, profiles, eps_profiles, path: Path, column: int = 0,
         fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path

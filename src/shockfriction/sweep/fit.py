@@ -163,7 +163,8 @@ class FitProblem:
         self.history: list[dict] = []
         self.runs = 0
         for ds in self.data:
-            for what, x in (("the initial values", self.x0), ("the lower bounds", self.lo), ("the upper bounds", self.hi)):
+            for what, x in (("the initial values", self.x0), ("the lower bounds", self.lo),
+                            ("the upper bounds", self.hi)):
                 check_deck(ds.kind, self.deck_for(ds, x), f"{source}: {ds.name or 'deck'} at {what}", ds.model)
 
     # --- model runs -------------------------------------------------------------

@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from shockfriction.plot import subplots
 
 
 def _label(name: str, value: float, sigma: float, unit: str) -> str:
@@ -21,7 +19,7 @@ def _label(name: str, value: float, sigma: float, unit: str) -> str:
 def plot_fit(result, path: Path) -> Path:
     """Write ``path`` (PNG): per dataset, measured points and computed curve, then the residual."""
     n = len(result.curves)
-    fig, axes = plt.subplots(2 * n, 1, figsize=(7, 1 + 5 * n), sharex=False, squeeze=False,
+    fig, axes = subplots(2 * n, 1, figsize=(7, 1 + 5 * n), sharex=False, squeeze=False,
                              gridspec_kw={"height_ratios": [3, 1] * n})
     us = 1e6
     for k, c in enumerate(result.curves):
@@ -40,5 +38,4 @@ def plot_fit(result, path: Path) -> Path:
                                    zip(result.names, result.values, result.sigma, result.units)), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
-    plt.close(fig)
     return Path(path)

@@ -29,7 +29,8 @@ def read_measured(m: Measured, here: Path, source: str = "fit") -> tuple[np.ndar
         t, y = t[inside], y[inside]
     order = np.argsort(t, kind="stable")
     if len(t) < 2:
-        raise DeckError(f"{source}: measured: {len(t)} usable samples in {path} (window {m.window}): expected at least 2")
+        raise DeckError(f"{source}: measured: {len(t)} usable samples in {path} (window {m.window}): "
+                        "expected at least 2")
     return t[order], y[order]
 
 

@@ -186,7 +186,8 @@ class SweepSpec(DeckModel):
             if self.sample.method == "lhs" and p.range is None:
                 fail(f"parameter[{i}] ({p.column}): expected a range (low and high values) with sample.method = 'lhs'")
             if self.sample.method == "lhs" and p.n is not None:
-                fail(f"parameter[{i}].n = {p.n}: expected no per-parameter n with sample.method = 'lhs' (give sample.n)")
+                fail(f"parameter[{i}].n = {p.n}: expected no per-parameter n with sample.method = 'lhs' "
+                     "(give sample.n)")
             if self.sample.method == "grid" and p.range is not None and p.n is None:
                 fail(f"parameter[{i}] ({p.column}): expected n (the number of grid values) with its range")
 
