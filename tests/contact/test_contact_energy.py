@@ -18,7 +18,6 @@ impact at t = 0; the later rows stay near 4e-5).
 import math
 
 import numpy as np
-import pytest
 
 from shockfriction.coupled.cone_shot import cone_deck
 from shockfriction.hydro.api import prepare
