@@ -18,6 +18,7 @@ impact at t = 0; the later rows stay near 4e-5).
 import math
 
 import numpy as np
+import pytest
 
 from shockfriction.coupled.cone_shot import cone_deck
 from shockfriction.hydro.api import prepare
@@ -96,3 +97,39 @@ def test_strip_impact_with_separation():
     p1 = np.array(sim.momentum())
     np.testing.assert_allclose(p1, p0, rtol=0, atol=1e-12 * np.abs(p0).max())
     assert h["friction_work"][-1] > 0.0
+
+
+def test_projection_removes_the_penetration_keeping_momentum():
+    """One slave node 2 um inside a guide segment, held by the velocity step (zero relative normal
+    velocity): the projection shifts it and the two guide nodes so that the gap closes, with
+    sum m dx = 0 and no velocity change."""
+    from shockfriction.contact.impulses import penetration_projection, point_weights
+
+    mass = np.array([2.0, 3.0, 5.0])
+    vx, vy = np.array([1.0, 1.0, 1.0]), np.array([-0.5, -0.5, -0.5])
+    v0 = (vx.copy(), vy.copy())
+    slave, guide = np.array([0]), np.array([1, 2])
+    seg, coef, active = np.array([0]), np.array([0.3]), np.array([True])
+    gnode, gw = np.zeros((1, 2), np.int64), np.zeros((1, 2))
+    point_weights(guide, seg, coef, active, gnode, gw)
+    nx, ny, gap = np.array([0.0]), np.array([1.0]), np.array([-2e-6])
+    sx, sy, lam_p = np.zeros(3), np.zeros(3), np.zeros(1)
+    penetration_projection(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, 1e-9, 50, 1e-12, sx, sy, lam_p)
+    rel = sy[0] - (0.7 * sy[1] + 0.3 * sy[2])
+    assert rel == pytest.approx(2e-6, rel=1e-12)
+    assert abs(np.sum(mass * sy)) < 1e-20 and np.all(sx == 0.0)
+    assert np.array_equal(vx, v0[0]) and np.array_equal(vy, v0[1])
+    assert lam_p[0] == pytest.approx(2e-6 / (1 / 2.0 + 0.49 / 3.0 + 0.09 / 5.0), rel=1e-12)
+
+
+def test_a_contact_gain_is_error():
+    """The energy row counts max(0, contact work) as error: booking +1 J/m of contact work on a
+    state at rest raises the error by 1 J/m; a loss (-1 J/m) is an exchange and leaves it at 0."""
+    sim = prepare(strip_deck(speed=0.0))
+    sim.state.energy.contact_work = 1.0
+    sim.step()
+    gain = sim.energy_history()["error"][-1]
+    sim.state.energy.contact_work = -1.0
+    sim.step()
+    loss = sim.energy_history()["error"][-1]
+    assert gain == pytest.approx(1.0, abs=1e-12) and abs(loss) < 1e-12
