@@ -13,10 +13,11 @@ gradient, c_S = sqrt(G/rho) the shear wave speed, l = sqrt(cell area) and (C_L, 
 deck's ``viscosity.shear_linear`` and ``shear_quadratic``.  phi is the transverse fraction
 of the gradient: for a plane wave L = a n^T, phi = 1 - (a.n)^2/|a|^2, 1 for a shear wave and
 0 for a longitudinal one (whose front the bulk q already damps: a plane compression front is
-not smeared further; phi <= 0, as for isotropic compression L = a I, gives no viscosity).  Q vanishes in uniform states (plateaus keep their level) and its
-power -2 eta D':D' V <= 0 is dissipative.  Its corner forces F_i = -Q b_i go into the
-velocity-dependent corner forces of the cycle, whose work :func:`~shockfriction.hydro.kernels.viscous_heat_serial`
-puts into the cells exactly (the energy books see it as internal energy).
+not smeared further; phi <= 0, as for isotropic compression L = a I, gives no viscosity).
+Q vanishes in uniform states (plateaus keep their level) and its power -2 eta D':D' V <= 0 is
+dissipative.  Its corner forces F_i = -Q b_i go into the velocity-dependent corner forces of
+the cycle, whose work :func:`~shockfriction.hydro.kernels.viscous_heat_serial` puts into the
+cells exactly (the energy books see it as internal energy).
 With ``elastic_only`` (default, ``viscosity.shear = "elastic"``) it acts only in cells with
 strength whose deviator is below 0.99 Y (sqrt(3/2 S:S) < 0.99 Y): the ringing is elastic, and
 in a yielding cell the flow stress already bounds the shear (a viscous overstress there would
