@@ -119,9 +119,10 @@ def _root(sigma_n):
     return s, mu(s) * sigma_n
 
 
-def _strip(contact_decks, ny, evaluation="corrected", t0=0.4e-6, t1=0.85e-6):
+def _strip(contact_decks, ny, evaluation="corrected", t0=0.4e-6, t1=0.85e-6, shear_viscosity="elastic"):
     deck = contact_decks["pressure_shear"](mu=MU0, law="modified_coulomb", end="0.9 us", ny=ny,
                                            friction_extra={**FRICTION, "evaluation": evaluation})
+    deck["viscosity"] = {"shear": shear_viscosity}
     d = run_dict(deck).simulation.interfaces[0].record.arrays()
     sel = (d["t"] > t0) & (d["t"] < t1)
     return -d["tau"][sel].mean(), d["slip"][sel].mean(), d["sigma_n"][sel].mean()
@@ -158,11 +159,13 @@ def test_modified_coulomb_converges_to_the_exact_root(contact_decks):
 
 def test_free_slip_option_keeps_the_thesis_bias(contact_decks):
     """evaluation = "free" is the thesis's eq. 3.79: tau stays 4-9% below the exact value at every
-    mesh (no convergence); regression pin of the 60-cell value (window [0.15, 0.85] us)."""
+    mesh (no convergence); regression pin of the 60-cell value (window [0.15, 0.85] us).  Pinned
+    without the shear viscosity: with it (default) the bias is -6.4/-10.2/-13.3% at 30/60/120 cells,
+    it grows as the damped lattice follows the biased law more closely."""
     exact_tau = pressure_shear_velocity_dependent(100.0, math.radians(30.0), MU0, MU_INF, GAMMA,
                                                   RHO, CL, CS, RHO, CL, CS).tau
     for ny in (30, 60, 120):
-        tau, slip, _ = _strip(contact_decks, ny, "free", t0=0.15e-6)
+        tau, slip, _ = _strip(contact_decks, ny, "free", t0=0.15e-6, shear_viscosity="off")
         err = tau / exact_tau - 1.0
         print(f"free slip, {ny:4d} cells: tau {tau / 1e6:.3f} MPa ({err:+.2%}), slip {slip:.3f} m/s")
         assert -0.09 < err < -0.04

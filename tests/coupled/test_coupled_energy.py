@@ -58,8 +58,8 @@ def test_total_energy_with_the_column_heat(audited):
     heat = parts["heat_columns"] + parts["heat_other"] + parts["cold_work"] + parts["plastic_heat_pending"]
     heat += parts["melt_energy"]
     e0 = e["total"][0]
-    # (the slide line's contact_loss, the work of the normal impulses, is not lost in the leapfrog
-    # energy of energy.csv: the cycle's measured interface work is the friction work alone)
+    # (energy.csv's measured interface work is the friction work plus the normal impulses' work,
+    # its contact_work, negligible in this planar strip)
     final = e["total"][-1] + heat - e["boundary_work"][-1]
     rel = abs(final - e0) / e0
     # what is left is the hydrocode's own error (time integration), not the friction bookkeeping

@@ -50,11 +50,13 @@ class SlideLineInterface:
                           vx_old=vx_old, vy_old=vy_old,
                           cell_yield=state.yield_stress,
                           cell_mass=state.cell_mass if self.heat else None,
-                          cell_energy=state.e if self.heat else None)
+                          cell_energy=state.e if self.heat else None,
+                          shift_x=getattr(state, "shift_x", None), shift_y=getattr(state, "shift_y", None))
         if not math.isfinite(work):
             raise SimulationError(f"slide line {line.name!r}: non-finite friction work at cycle {cycle}, "
                                   f"t = {t:.6e} s")
         state.energy.friction_work += work
+        state.energy.contact_work -= float(line.work_n.sum())     # normal impulses' work on the bodies
         if self.heat:
             state.energy.interface_heat += work
         line.maybe_record(t + dt_pos, state.x + dt_pos * state.vx, state.y + dt_pos * state.vy)

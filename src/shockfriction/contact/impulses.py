@@ -25,12 +25,16 @@ over the step is -P (w^{n-1/2} + w^{n+1/2})/2 (:func:`impulse_work`), which is h
 friction work is counted (zero for a sticking pair).
 
 Normal step (unilateral by default): the target relative normal velocity is
-w_n = -g/dt (g the gap at t^n), so an open gap that the free motion would overrun
-closes exactly at t^{n+1}; a penetration (g < 0) is removed by a tenth per step
-(w_n = -0.1 g/dt: pushing it out in one step pumps energy into the contact, which
-was seen to go unstable at an axisymmetric axis); the accumulated normal impulse is
-kept >= 0 (no tension).  With ``bilateral`` (the thesis's permanent
-contact, eqs. 3.64-3.66) it may be negative.
+w_n = -g/dt (g the gap at t^n) for an open gap, so a gap that the free motion would
+overrun closes exactly at t^{n+1}, and w_n = 0 for a penetration (g <= 0: the pair
+is held, never pushed apart by a velocity); the accumulated normal impulse is kept
+>= 0 (no tension).  With ``bilateral`` (the thesis's permanent contact, eqs.
+3.64-3.66) it may be negative.  A penetration left at t^{n+1} is removed by a
+position projection (:func:`penetration_projection`): displacements +Q n/m_g on the
+slave node and -w_i Q n/m_i on the guide nodes (sum m dx = 0: the centre of mass,
+hence momentum, is untouched; no velocity changes).  Pushing a penetration out by a
+velocity instead (w_n = -c g/dt, the former Baumgarte-type c = 0.1) makes the normal
+impulses do positive work: the contact created energy (docs/theory/contact-energy-and-shear-viscosity.md).
 
 Tangential step: free slip s* = (v_g - v_G).t after the normal step; the law gives
 the traction limit tau_max(|F_N|, |[V]|, Y_g, Y_G) (eq. 3.77-3.81) and the friction
@@ -55,9 +59,6 @@ import numpy as np
 from numba import njit
 
 from shockfriction.friction.laws import corrected_traction, relaxation_rate, slip_weight, traction_limit
-
-#: fraction of an existing penetration removed per step (open gaps close in one step)
-PENETRATION_RELAXATION = 0.1
 
 
 @njit(cache=True)
@@ -103,8 +104,8 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
     """Contact step: normal impulses ``lam_n`` (N s, >= 0 compressive unless bilateral).
 
     ``dt`` is the step over which the positions advance: the target relative normal
-    velocity is -gap/dt for an open gap (closed exactly at t^{n+1}) and
-    -PENETRATION_RELAXATION gap/dt for a penetration (removed gradually).  ``gnode[j, :]``, ``gw[j, :]`` are the guide nodes and weights of
+    velocity is -gap/dt for an open gap (closed exactly at t^{n+1}) and 0 for a
+    penetration (held; :func:`penetration_projection` removes it).  ``gnode[j, :]``, ``gw[j, :]`` are the guide nodes and weights of
     pair j (weight 0 pads).  Corrects ``vx, vy`` in place.  Returns the number of sweeps done.
     """
     ns = slave.size
@@ -121,7 +122,7 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
             i_g = slave[j]
             inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
             w = _relative_velocity(vx, vy, j, i_g, gnode, gw, nx[j], ny[j])
-            target = -gap[j] / dt if gap[j] > 0.0 else -PENETRATION_RELAXATION * gap[j] / dt
+            target = -gap[j] / dt if gap[j] > 0.0 else 0.0
             new = lam_n[j] + (target - w) / inv_pair
             if not bilateral and new < 0.0:
                 new = 0.0
@@ -133,6 +134,53 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
             dv = abs(dp * inv_pair)
             if dv > change:
                 change = dv
+        if sweep == 0:
+            scale = change
+        if change <= rel_tol * scale:
+            break
+    return sweeps
+
+
+@njit(cache=True)
+def penetration_projection(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, max_sweeps, rel_tol,
+                           sx, sy, lam_p):
+    """Position projection of the penetrations left at t^{n+1}; returns the sweeps done.
+
+    The predicted gap of pair j is g_j + dt (v_g - v_G).n + (dx_g - dx_G).n (``gap`` at t^n,
+    the corrected velocities ``vx, vy``, the position shifts ``sx, sy`` accumulated in place).
+    A "position impulse" Q_j >= 0 (kg m) shifts the slave node by +Q n/m_g and guide node i by
+    -w_i Q n/m_i, the same mass weighting as the velocity impulses, so sum m dx = 0 (momentum
+    and the centre of mass are untouched) and no velocity changes.  Projected Gauss-Seidel on
+    predicted gap >= 0 (Q_j = -g_pred/(1/m_g + 1/m_G) for one isolated pair), ``lam_p[j]`` = Q_j.
+    """
+    ns = slave.size
+    for j in range(ns):
+        lam_p[j] = 0.0
+    scale = 0.0
+    sweeps = 0
+    for sweep in range(max_sweeps):
+        sweeps += 1
+        change = 0.0
+        for j in range(ns):
+            if not active[j]:
+                continue
+            i_g = slave[j]
+            pred = (gap[j] + dt * _relative_velocity(vx, vy, j, i_g, gnode, gw, nx[j], ny[j])
+                    + _relative_velocity(sx, sy, j, i_g, gnode, gw, nx[j], ny[j]))
+            if pred >= 0.0 and lam_p[j] == 0.0:
+                continue
+            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            new = lam_p[j] - pred / inv_pair
+            if new < 0.0:
+                new = 0.0
+            dq = new - lam_p[j]
+            if dq == 0.0:
+                continue
+            lam_p[j] = new
+            _apply(sx, sy, mass, j, i_g, gnode, gw, nx[j], ny[j], dq)
+            dd = abs(dq * inv_pair)
+            if dd > change:
+                change = dd
         if sweep == 0:
             scale = change
         if change <= rel_tol * scale:

@@ -24,8 +24,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shockfriction.contact.impulses import (deposit_friction_heat, impulse_work, normal_step, point_weights,
-                                            tangential_step)
+from shockfriction.contact.impulses import (deposit_friction_heat, impulse_work, normal_step,
+                                            penetration_projection, point_weights, tangential_step)
 from shockfriction.contact.pairing import (hat_weights, pair_slave_nodes, slave_hat_coordinates, slave_nodal_areas,
                                            slave_tributary_lengths)
 from shockfriction.friction.laws import FRICTIONLESS
@@ -162,9 +162,11 @@ class SlideLine:
         self.tx = np.zeros(ns)
         self.ty = np.zeros(ns)
         self.gap = np.zeros(ns)
+        self.gap_point = np.zeros(ns)
         self.active = np.zeros(ns, np.bool_)
         self.lam_n = np.zeros(ns)
         self.lam_t = np.zeros(ns)
+        self.lam_p = np.zeros(ns)         # position "impulses" of the penetration projection (kg m)
         self.work_n = np.zeros(ns)
         self.work_t = np.zeros(ns)
         self.slip_free = np.zeros(ns)
@@ -271,7 +273,8 @@ class SlideLine:
 
     # ------------------------------------------------------------------ one cycle
     def apply(self, x, y, vx, vy, mass, dt: float, t: float, *, dt_position: float | None = None,
-              vx_old=None, vy_old=None, cell_yield=None, cell_mass=None, cell_energy=None) -> float:
+              vx_old=None, vy_old=None, cell_yield=None, cell_mass=None, cell_energy=None,
+              shift_x=None, shift_y=None) -> float:
         """Correct the free velocities ``vx, vy`` in place; return the friction work of this step (J).
 
         ``dt`` is the velocity step (impulse = force dt) and ``dt_position`` the step that takes
@@ -281,7 +284,9 @@ class SlideLine:
         them the free velocities stand in, and the work is the kinetic energy the correction
         removes from the free state); ``cell_yield`` (Pa) is
         needed by the Tresca laws; ``cell_mass`` and ``cell_energy`` (specific internal energy,
-        J/kg, updated in place) by the heat deposit.
+        J/kg, updated in place) by the heat deposit.  ``shift_x, shift_y`` (node arrays, m):
+        the penetration projection adds its position shifts there (the caller moves x^n by
+        them); without them a penetration is only held, not removed.
         """
         dt_pos = dt if dt_position is None else float(dt_position)
         if vx_old is None or vy_old is None:
@@ -291,7 +296,11 @@ class SlideLine:
         pair_slave_nodes(xs, ys, slave_idx, gx, gy, self.normal_sign, self.max_gap, self.max_penetration,
                          self.seg, self.coef, self.nx, self.ny, self.tx, self.ty, self.gap, self.active)
         self.area[:] = self.nodal_areas(x, y)
+        self.gap_point[:] = self.gap     # distance to the guide polyline
         self._projection_weights(x, y, xs, ys, gx, gy)
+        # the projection removes a penetration that both gaps see (the averaged gap of the velocity
+        # step differs from the point gap at guide kinks: pushing either alone out pumps energy)
+        np.maximum(self.gap_point, self.gap, out=self.gap_point)
         self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.nx,
                                          self.ny, self.gap, self.active, dt_pos, self.bilateral, self.max_sweeps,
                                          self.rel_tol, self.lam_n)
@@ -313,6 +322,10 @@ class SlideLine:
                 vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.tx, self.ty, self.active, dt,
                 self.area, self.law, self.law_params, y_slave, y_guide, self.lam_n, self.max_sweeps, self.rel_tol,
                 self.lam_t, self.slip_free, self.slip, self.slip_law)
+        if shift_x is not None and shift_y is not None:
+            penetration_projection(vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.nx, self.ny, self.gap_point,
+                                   self.active, dt_pos, self.max_sweeps, self.rel_tol, shift_x, shift_y,
+                                   self.lam_p)
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.nx, self.ny,
                      self.active, self.lam_n, self.work_n)
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.tx, self.ty,

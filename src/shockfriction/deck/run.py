@@ -270,6 +270,12 @@ class Viscosity(DeckModel):
     quadratic: float = Field(default=2.0, ge=0.0)
     linear: float = Field(default=0.15, ge=0.0)
     hourglass: float = Field(default=0.1, ge=0.0)
+    shear: Literal["elastic", "all", "off"] = Field(
+        default="elastic", description="deviatoric (shear) viscosity Q = 2 phi rho l (C_L c_S + C_Q^2 l |D'|) D' "
+        "(shockfriction.hydro.shear_viscosity): 'elastic' in cells below yield, 'all' in every cell with "
+        "strength, 'off' nowhere")
+    shear_linear: float = Field(default=0.15, ge=0.0, le=2.0, description="C_L of the shear viscosity")
+    shear_quadratic: float = Field(default=0.0, ge=0.0, le=4.0, description="C_Q of the shear viscosity")
 
 
 class Output(DeckModel):

@@ -15,7 +15,11 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    ``state.energy.interface_heat``) and may report friction work in
    ``state.energy.friction_work``.  The cycle measures the work of the
    corrections (``state.energy.interface_work``), re-synchronises node groups
-   and re-applies the boundary constraints;
+   and re-applies the boundary constraints.  An interface may also add position
+   shifts to ``state.shift_x, shift_y`` (penetration projections, mass-weighted so
+   that sum m dx = 0); the cycle syncs them over node groups, removes their
+   constrained components, moves x^n by them and books -sum F.dx as
+   ``state.energy.projection_work`` (part of ``contact_work``);
 5. positions x^{n+1} = x^n + dt^{n+1/2} v^{n+1/2};
 6. cells: density, strain rate, stress, viscosity, energy, EOS, temperature and
    the next stable time step.
@@ -35,6 +39,7 @@ import numpy as np
 
 from shockfriction.errors import SimulationError
 from shockfriction.hydro import kernels as K
+from shockfriction.hydro import shear_viscosity as SV
 from shockfriction.hydro.guards import RunGuards
 from shockfriction.hydro.setup import Problem
 
@@ -46,7 +51,7 @@ class Interface(Protocol):
 
 
 ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
-                  "friction_work", "error")
+                  "friction_work", "contact_work", "error")
 
 
 def _node_corner_csr(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
@@ -78,6 +83,9 @@ class Simulation:
         self.cl = deck.viscosity.linear
         self.hg = deck.viscosity.hourglass
         self.qedge = deck.viscosity.kind == "edge"
+        visc = deck.viscosity
+        self.shear_visc = (visc.shear != "off" and (visc.shear_linear > 0.0 or visc.shear_quadratic > 0.0))
+        self.shear_visc_args = (visc.shear_linear, visc.shear_quadratic, visc.shear == "elastic")
         threads = deck.threads if threads is None else threads
         self.threads = numba.config.NUMBA_NUM_THREADS if threads == 0 else min(threads, numba.config.NUMBA_NUM_THREADS)
         self.parallel = self.threads > 1
@@ -107,6 +115,7 @@ class Simulation:
             self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
+        self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
         self._grp = (problem.groups.ptr, problem.groups.nodes)
         s.dt = self._first_time_step()
         self._dt_prev = 0.0  # leapfrog start: v^{-1/2} = v^0 and a half velocity step
@@ -173,6 +182,10 @@ class Simulation:
         corner = K.corner_forces_parallel if self.parallel else K.corner_forces_serial
         corner(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
                s.axisymmetric, self.hg, self._corner, self._vcorner, self.qedge, self.cq, self.cl)
+        if self.shear_visc:
+            shear = SV.shear_viscosity_parallel if self.parallel else SV.shear_viscosity_serial
+            shear(s.conn, s.x, s.y, s.vx, s.vy, s.rho, s.shear_modulus, s.sxx, s.syy, s.sxy, s.yield_stress,
+                  s.axisymmetric, *self.shear_visc_args, self._corner, self._vcorner)
         if self.parallel:
             K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
         else:
@@ -220,6 +233,7 @@ class Simulation:
                 obj.apply(s, dtv, s.t, s.cycle)
             if self._grp[0].shape[0] > 1:
                 K.sync_groups(s.vx, s.vy, self._vx_free, self._vy_free, *self._grp)
+            self._apply_position_shifts()
             self._jx_int[:] = s.vx - self._vx_free
             self._jy_int[:] = s.vy - self._vy_free
             self._vx_pre += self._jx_int  # constraint impulses = what the constraints changed
@@ -246,7 +260,28 @@ class Simulation:
             q_int = 0.5 * (q_before + en.interface_heat)
             self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own),
                          ie + 0.5 * qv + (q_int - q_before),
-                         (en.boundary_work, en.interface_work, q_int, en.friction_work))
+                         (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
+                          en.projection_work))
+
+    def _apply_position_shifts(self) -> None:
+        """Move x^n by the interfaces' position shifts (penetration projections): node groups
+        share them, constrained directions keep none, -sum F.dx goes to the projection work."""
+        s = self.state
+        sx, sy = s.shift_x, s.shift_y
+        if not (sx.any() or sy.any()):
+            return
+        if self._grp[0].shape[0] > 1:
+            zero = np.zeros_like(sx)
+            K.sync_groups(sx, sy, zero, zero, *self._grp)
+        K.apply_constraints(sx, sy, sx.copy(), sy.copy(), s.mass_own, *self._cons_fixed, 0.0)
+        # a group's force is the group sum, given to each member: weight by mass_own/mass
+        w = -float(np.sum(s.mass_own / s.mass * (s.fx * sx + s.fy * sy)))
+        s.energy.projection_work += w
+        s.energy.contact_work += w
+        s.x += sx
+        s.y += sy
+        sx[:] = 0.0
+        sy[:] = 0.0
 
     def _advance_stage(self) -> None:
         """Steps 5-6: positions, cells, next time step."""
@@ -278,15 +313,21 @@ class Simulation:
     # ------------------------------------------------------------------ histories
     def _record(self, ke: float, ie: float, budget: tuple | None = None) -> None:
         """One history row at t^n; ``budget`` = (boundary work, interface work, interface heat,
-        friction work) at t^n (default: the running totals)."""
+        friction work, contact work, projection work) at t^n (default: the running totals).
+
+        error = total - (initial + boundary work + interface work + interface heat + projection
+        work) + max(0, contact work): every exchange is booked, but energy that the contact
+        created (contact work > 0) is error, not an exchange."""
         s = self.state
         f = s.geometry_factor
         en = s.energy
-        wbc, wint, qint, fw = budget if budget is not None else (
-            en.boundary_work, en.interface_work, en.interface_heat, en.friction_work)
+        wbc, wint, qint, fw, cw, pw = budget if budget is not None else (
+            en.boundary_work, en.interface_work, en.interface_heat, en.friction_work, en.contact_work,
+            en.projection_work)
         total = ke + ie
-        err = total - (en.initial + wbc + wint + qint)
-        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * err))
+        err = total - (en.initial + wbc + wint + qint + pw) + max(0.0, cw)
+        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * cw,
+                                 f * err))
         if self._getters:
             self.probe_rows.append((s.t, *[float(g()) for g in self._getters]))
         for obs in self.observers:

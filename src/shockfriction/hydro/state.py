@@ -42,6 +42,14 @@ class EnergyBudget:
     ``interface_heat`` is what interface objects put into cells' internal energy
     (they add it here themselves); friction work is added by interfaces to
     ``friction_work`` for reporting (it is part of ``interface_work``).
+
+    ``contact_work`` is the work done on the bodies by the contact (normal) side of the
+    interfaces: the normal impulses' work (part of ``interface_work``, reported by the
+    slide lines) plus ``projection_work``, the internal energy -sum F.dx that the
+    penetration projections' position shifts dx make (booked by the cycle, not part of
+    ``interface_work``).  Contact may only dissipate: the cycle's energy error counts
+    max(0, contact_work), the energy the contact created, as error
+    (docs/theory/contact-energy-and-shear-viscosity.md).
     """
 
     initial: float = 0.0
@@ -49,6 +57,8 @@ class EnergyBudget:
     interface_work: float = 0.0
     interface_heat: float = 0.0
     friction_work: float = 0.0
+    contact_work: float = 0.0
+    projection_work: float = 0.0
 
 
 @dataclass
@@ -89,10 +99,14 @@ class State:
     dt: float = 0.0
     dt_velocity: float = 0.0
     energy: EnergyBudget = field(default_factory=EnergyBudget)
+    #: position shifts of the interfaces' penetration projections this step (nodes, m); the
+    #: cycle adds them to x^n before the move and zeroes them
+    shift_x: np.ndarray = None
+    shift_y: np.ndarray = None
 
     def __post_init__(self):
         nn, nc = self.x.shape[0], self.conn.shape[0]
-        for name in ("fx", "fy"):
+        for name in ("fx", "fy", "shift_x", "shift_y"):
             if getattr(self, name) is None:
                 setattr(self, name, np.zeros(nn))
         for name in ("e_el", "pressure", "q", "sxx", "syy", "sxy", "eps_p", "temperature", "shear_modulus",

@@ -1,0 +1,57 @@
+"""Kernel properties of the deviatoric shear viscosity (shockfriction.hydro.shear_viscosity):
+dissipative (sum F.v <= 0 for any velocities, equal to -2 eta D':D' V), momentum-free in plane
+strain, silent for rigid motions and for a plane longitudinal wave (phi = 0), active for a plane
+shear wave (phi = 1)."""
+
+import numpy as np
+import pytest
+
+from shockfriction.hydro.shear_viscosity import shear_viscosity_serial
+
+CONN = np.array([[0, 1, 2, 3]])
+X = np.array([0.0, 1.0, 1.1, -0.1]) * 1e-3 + 2e-3
+Y = np.array([0.0, 0.1, 1.0, 0.9]) * 1e-3
+
+
+def _forces(vx, vy, axi=False, elastic_only=False, sxx=0.0, yld=1e9):
+    corner, vcorner = np.zeros((1, 8)), np.zeros((1, 8))
+    shear_viscosity_serial(CONN, X, Y, vx, vy, np.array([2700.0]), np.array([26e9]), np.array([sxx]),
+                           np.array([0.0]), np.array([0.0]), np.array([yld]), axi, 0.15, 1.0, elastic_only,
+                           corner, vcorner)
+    assert np.array_equal(corner, vcorner)
+    return corner[0, :4], corner[0, 4:]
+
+
+@pytest.mark.parametrize("axi", [False, True])
+def test_dissipative_for_random_velocities(axi):
+    rng = np.random.default_rng(1)
+    active = 0
+    for _ in range(50):
+        vx, vy = rng.normal(0, 100, 4), rng.normal(0, 100, 4)
+        fx, fy = _forces(vx, vy, axi)
+        scale = np.abs(fx).sum() + np.abs(fy).sum()
+        active += scale > 0.0      # phi = 1 - (tr L)^2/|L|^2 <= 0 (expansion-like gradients): no forces
+        assert fx @ vx + fy @ vy <= 1e-12 * scale * 100
+        if not axi:
+            assert abs(fx.sum()) + abs(fy.sum()) <= 1e-9 * scale
+    assert active > 10
+
+
+def test_rigid_motion_and_plane_longitudinal_wave_are_left_alone():
+    w = 1e4
+    for vx, vy in ((np.full(4, 30.0), np.full(4, -5.0)), (-w * Y, w * X)):
+        fx, fy = _forces(vx, vy)
+        assert np.abs(fx).max() + np.abs(fy).max() < 1e-9
+    # plane longitudinal wave along y: v = (0, a y)
+    fx, fy = _forces(np.zeros(4), 1e5 * Y)
+    assert np.abs(fx).max() + np.abs(fy).max() < 1e-6
+
+
+def test_plane_shear_wave_is_damped_unless_yielding():
+    vx, vy = 1e5 * Y, np.zeros(4)          # v = (a y, 0): pure shear, phi = 1
+    fx, fy = _forces(vx, vy)
+    assert fx @ vx < 0.0
+    fx, fy = _forces(vx, vy, elastic_only=True, sxx=1e9, yld=1.0e9)   # at yield: off
+    assert np.abs(fx).max() == 0.0
+    fx, fy = _forces(vx, vy, elastic_only=True, sxx=1e8, yld=1.0e9)   # elastic: on
+    assert fx @ vx < 0.0
