@@ -198,6 +198,10 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     Zc = np.zeros(nc)
     dirn = np.ones(nc)  # slip branch: +1 the slider drags the surface, -1 the surface overtakes the slider
     nsw = np.zeros(nc, np.int64)
+    blo = np.full(nc, -np.inf)  # bracket of the interface temperature root
+    bhi = np.full(nc, np.inf)
+    xprev = np.zeros(nc)
+    rprev = np.zeros(nc)
     for j in range(nc):
         status[j] = OK
         iters[j] = 0
@@ -366,10 +370,29 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 done = False
         if done:
             break
-        omega = 1.0 if pic < 3 else 0.5  # under-relaxed after three plain sweeps (strength falls steeply at T_F)
-        for i in range(nn):
-            for j in range(nc):
-                Tmat[i, j] += omega * (Tit[i, j] - Tmat[i, j])
+        # next material temperatures: plain Picard in the column; at z = 0 (where the Tresca branch and the
+        # steepest softening act) a safeguarded secant on r(Theta) = T_heat(0; Theta) - Theta
+        for j in range(nc):
+            if not act[j]:
+                continue
+            x = Tmat[0, j]
+            r = Tit[0, j] - x
+            if r > 0.0:
+                blo[j] = max(blo[j], x)
+            else:
+                bhi[j] = min(bhi[j], x)
+            if pic == 0:
+                xn = Tit[0, j]
+            else:
+                den = r - rprev[j]
+                xn = x - r * (x - xprev[j]) / den if den != 0.0 else Tit[0, j]
+            if not (blo[j] < xn < bhi[j]):
+                xn = 0.5 * (blo[j] + bhi[j]) if math.isfinite(bhi[j]) else Tit[0, j]
+            xprev[j] = x
+            rprev[j] = r
+            Tmat[0, j] = xn
+            for i in range(1, nn):
+                Tmat[i, j] = Tit[i, j]
     # ---- commit
     for j in range(nc):
         if status[j] != OK:
