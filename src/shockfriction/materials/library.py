@@ -18,6 +18,10 @@ scg_h               inverse_temperature SCG thermal softening of G (thesis h_The
 scg_xi              dimensionless   melt softening exp(-xi T/(T_F - T)) (Ball & Winter)
 eos_c0, eos_s       velocity, -     linear Us = c0 + s up Hugoniot
 eos_gamma0          dimensionless   Grueneisen coefficient (Gamma rho = const)
+latent_heat         specific_energy latent heat of fusion L (optional; viscoplastic sub-grid model)
+liquid_viscosity    viscosity       melt viscosity at Theta_F (optional; Arrhenius law, viscoplastic model)
+liquid_viscosity_activation temperature  E/R of eta_L = eta_F exp(E/R (1/T - 1/Theta_F)) (optional)
+viscoplastic_viscosity viscosity    overstress viscosity eta_vp of the solid (optional; viscoplastic model)
 ==================  ==============  ==============================================
 """
 
@@ -51,6 +55,10 @@ PARAMETER_KINDS: dict[str, str] = {
     "eos_c0": "velocity",
     "eos_s": "dimensionless",
     "eos_gamma0": "dimensionless",
+    "latent_heat": "specific_energy",
+    "liquid_viscosity": "viscosity",
+    "liquid_viscosity_activation": "temperature",
+    "viscoplastic_viscosity": "viscosity",
 }
 REQUIRED = ("rho0", "conductivity", "melting_temperature", "G0", "Y0", "Ymax",
             "scg_beta", "scg_n", "scg_g", "scg_h", "scg_xi")

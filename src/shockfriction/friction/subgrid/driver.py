@@ -108,7 +108,8 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
         fr = deck.friction
         sg = SubgridInterface(n, mat, share, thickness=deck.column.thickness, n_cells=deck.column.cells,
                               grading=deck.column.grading, model=deck.model, mu0=fr.mu0, f=fr.f,
-                              taylor_quinney=fr.taylor_quinney, T0=deck.T0)
+                              taylor_quinney=fr.taylor_quinney, T0=deck.T0,
+                              viscoplastic=deck.viscoplastic.options() if deck.viscoplastic else None)
         columns = sg.columns
         z = sg.z
     nsteps = ends.size
@@ -121,8 +122,9 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
     hist = [p.open("w", newline="") for p in hist_files]
     prof = [p.open("w", newline="") for p in prof_files]
     try:
+        film = (not thermal) and deck.model == "viscoplastic"  # extra column: molten film thickness (m)
         for fh in hist:
-            fh.write(HISTORY_HEADER + "\n")
+            fh.write(HISTORY_HEADER + (",film_thickness_m" if film else "") + "\n")
         for fh in prof:
             fh.write(PROFILE_HEADER + "\n")
         eps0 = np.zeros((n, z.size))
@@ -153,7 +155,7 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
             res.iterations[i] = iters
             for k, fh in enumerate(hist):
                 fh.write(f"{ends[i]:.9e},{theta_s[k]:.9e},{tau[k]:.9e},{slip_m[k]:.9e},{slip_l[k]:.9e},"
-                         f"{q_in[k]:.9e},{int(iters[k])}\n")
+                         f"{q_in[k]:.9e},{int(iters[k])}" + (f",{sg.film_thickness[k]:.9e}" if film else "") + "\n")
             if (i + 1) % FLUSH_EVERY == 0:
                 for fh in hist:
                     fh.flush()
