@@ -156,6 +156,7 @@ class SubgridInterface:
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
         self.eps_p = np.zeros((n, self.vp.z.size))  # cell values on the node above (last node: last cell)
+        self._pending_plastic_heat = np.zeros((n, self.vp.z.size))  # no lagged heat: deposited in the same step
 
     def _step_viscoplastic(self, F_N, vf, vp, k, tau_cap, dt, when):
         c = self.vp

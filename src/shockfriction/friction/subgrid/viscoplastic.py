@@ -283,8 +283,10 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 if not act[j]:
                     continue
                 dmax = 0.0
+                # plain Newton; damped when it cycles between plastic and elastic cells (piecewise-smooth return)
+                damp = 1.0 if it < 25 else (0.5 if it < 100 else 0.25)
                 for i in range(nn):
-                    vn[i, j] += rhs[i, j]
+                    vn[i, j] += damp * rhs[i, j]
                     if abs(rhs[i, j]) > dmax:
                         dmax = abs(rhs[i, j])
                 if dmax <= mtol * (abs(v_free[j]) + abs(vn[0, j]) + 1e-3):
