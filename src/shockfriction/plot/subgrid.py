@@ -16,10 +16,18 @@ def _pyplot():
     return plt
 
 
-def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title: str = "") -> Path:
-    """Interface temperature and friction stress against time, one curve per column (Figs. 7.8-7.9)."""
+def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title: str = "", film=None) -> Path:
+    """Interface temperature and friction stress against time, one curve per column (Figs. 7.8-7.9);
+    with ``film`` (viscoplastic model, m) a third panel with the molten film thickness and a log stress axis."""
     plt = _pyplot()
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    if film is None:
+        fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    else:
+        fig, (ax1, ax2, ax3) = plt.subplots(3, 1, figsize=(7, 8.5), sharex=True)
+        for k, name in enumerate(names):
+            ax3.plot(np.asarray(t) * 1e6, np.asarray(film)[:, k] * 1e9, label=name)
+        ax3.set_ylabel("molten film (nm)")
+        ax2.set_yscale("log")
     tus = np.asarray(t) * 1e6
     for k, name in enumerate(names):
         ax1.plot(tus, theta[:, k], label=name)
@@ -29,7 +37,7 @@ def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title:
     ax1.set_ylabel("interface temperature (K)")
     ax1.legend(loc="lower right", fontsize=8)
     ax2.set_ylabel("friction stress (MPa)")
-    ax2.set_xlabel("time (us)")
+    (ax2 if film is None else ax3).set_xlabel("time (us)")
     if not np.any(np.isfinite(tau)):
         ax2.text(0.5, 0.5, "pure thermal run: no friction stress", ha="center", transform=ax2.transAxes)
     if title:
