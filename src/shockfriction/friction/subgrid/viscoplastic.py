@@ -67,17 +67,15 @@ def temperature_of(e, rho_c, rho_L, T0, T_F):
 
 
 @njit(cache=True)
-def return_map(s_abs, G, eta_dt, eps, k_fac, p):
+def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, p):
     """Plastic increment x = d gamma_p >= 0 of |s_tr| - (G + eta_vp/dt) x - Y(eps + x/sqrt3) k_fac = 0,
     k_fac = (G/G0)/sqrt(3); returns (x, d|s'|/d|s_tr|).  The left side is convex and decreasing in x,
-    so Newton from x = 0 climbs monotonically to the root (no overshoot)."""
+    so Newton from x = 0 climbs monotonically to the root (no overshoot).  ``y_start`` = min(Ymax, Y0 (1 + beta
+    eps)^n), the hardening at the start of the step (computed once per step)."""
     Y0, beta, n, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     if G <= 0.0:
         return 0.0, 0.0
-    y = Y0 * (1.0 + beta * eps) ** n
-    if y > Ymax:
-        y = Ymax
-    if s_abs <= y * k_fac:
+    if s_abs <= y_start * k_fac:
         return 0.0, 1.0
     c = G + eta_dt
     x = 0.0
@@ -119,7 +117,7 @@ def _thomas_masked(lo, di, up, rhs, act, nn, nc):
 
 
 @njit(cache=True)
-def _cell_state(v, vn, dz, dt, G, ge, eps, eta, kf, sold, c, j, p, eta_vp, th):
+def _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th):
     """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of cell c.
 
     th = 1/2 (inertia: implicit midpoint) or 1 (quasi-static: backward Euler); gd and S are the
@@ -130,7 +128,7 @@ def _cell_state(v, vn, dz, dt, G, ge, eps, eta, kf, sold, c, j, p, eta_vp, th):
         S = (1.0 - th) * sold[c, j] + eta[c, j] * gd
         return gd, 0.0, ge[c, j] + dt * gd, S, eta[c, j] * th / dz[c]
     s_tr = g * (ge[c, j] + dt * gd)
-    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, eps[c, j], kf[c, j], p)
+    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, eps[c, j], yh[c, j], kf[c, j], p)
     sg = 1.0 if s_tr >= 0.0 else -1.0
     snew = s_tr - sg * g * x
     S = (1.0 - th) * sold[c, j] + th * snew + eta[c, j] * gd
@@ -176,9 +174,12 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     kf = np.empty((M, nc))
     eta = np.empty((M, nc))
     sold = np.empty((M, nc))
+    yh = np.empty((M, nc))  # hardening at the start of the step
     for c in range(M):
         for j in range(nc):
             sold[c, j] = Gs[c, j] * ge[c, j]
+            y = p[I_Y0] * (1.0 + p[I_BETA] * eps[c, j]) ** p[I_N]
+            yh[c, j] = y if y < p[I_YMAX] else p[I_YMAX]
     lo = np.empty((nn, nc))
     di = np.empty((nn, nc))
     up = np.empty((nn, nc))
@@ -234,7 +235,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             for c in range(M):
                 for j in range(nc):
                     if act[j]:
-                        gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, eta, kf, sold, c, j, p, eta_vp, th)
+                        gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th)
                         S[c + 1, j] = Sm
                         Kc[c, j] = K
             for j in range(nc):
@@ -324,7 +325,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         for c in range(M):
             for j in range(nc):
                 if act[j]:
-                    gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, eta, kf, sold, c, j, p, eta_vp, th)
+                    gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th)
                     gdm[c, j] = gd
                     S[c + 1, j] = Sm
                     snew[c, j] = sn
@@ -488,15 +489,21 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 rhs[i, j] = -res
         _thomas_masked(lo, di, up, rhs, live, nn, nc)
         any_live = False
+        es = rho_c * (T_F - T0)
         for j in range(nc):
             if not live[j]:
                 continue
             dmax = 0.0
+            same = True  # no node changed branch of T(e): the linearised step was exact
             for i in range(nn):
-                en[i, j] += rhs[i, j]
+                a = en[i, j]
+                b = a + rhs[i, j]
+                if ((a <= es) != (b <= es)) or ((a <= es + rho_L) != (b <= es + rho_L)):
+                    same = False
+                en[i, j] = b
                 if abs(rhs[i, j]) > dmax:
                     dmax = abs(rhs[i, j])
-            if dmax <= tol * rho_c:
+            if dmax <= tol * rho_c or same:
                 live[j] = False
             else:
                 any_live = True
