@@ -17,7 +17,7 @@ P_WAVE = 1e9  # normal stress of the wave tests: G = G(p, 300 K) sets c_s and th
 G_P = scg_shear_modulus(P_WAVE, 300.0, AL.scg_params())
 ZP = math.sqrt(AL.rho0 * G_P)
 CS = math.sqrt(G_P / AL.rho0)
-MELT = dict(latent_heat=3.97e5, liquid_viscosity=0.844e-3)
+MELT = {"latent_heat": 3.97e5, "liquid_viscosity": 0.844e-3}
 
 
 def wave_run(t_end, n_cells=100, h=4e-6, V=1.0):
@@ -55,7 +55,7 @@ def test_far_end_impedance_does_not_reflect():
     """After the front has left through z = h the column carries tau = rho c_s V and v = V uniformly
     (a reflection from a free/fixed end would give 0 or 2 rho c_s V)."""
     V = 1.0
-    c, t = wave_run(3.0e-9)
+    c, _ = wave_run(3.0e-9)
     Z = ZP
     s = c.stress[0] / (Z * V)
     print(f"\nafter exit: stress/ZV in [{s.min():.4f}, {s.max():.4f}], v/V in [{c.v.min():.4f}, {c.v.max():.4f}]")

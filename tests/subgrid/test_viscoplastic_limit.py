@@ -6,7 +6,6 @@ independent reference (Al 5083-H111 on AISI 321, 200 m/s, 10 GPa, f = 0.3: examp
 """
 
 import numpy as np
-import pytest
 
 from shockfriction.friction.subgrid.interface import SubgridInterface
 from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns

@@ -47,6 +47,11 @@ with the heat flux beta_T tau |[v]| into the column and the interface temperatur
 (Brent, tolerance ``xtol`` kelvin).  ``slip`` in this module always means a relative
 tangential *velocity* (m/s), not a displacement.
 
+``model="viscoplastic"`` delegates to :class:`~shockfriction.friction.subgrid.viscoplastic.ViscoplasticColumns`
+(options ``viscoplastic={"eta_vp": Pa s, "inertia": bool, "tresca": bool}``; ``film_thickness`` in m; the
+plastic heat is deposited in the same step, ``heat_plastic`` then also holds the viscous, softening and
+numerical heat; column kinetic/elastic/radiated energies are in ``self.vp.energies()``).
+
 Per-node diagnostics after a step (arrays ``(n_columns,)``): ``theta_interface`` (K, column
 temperature at z = 0), ``slip_macro`` (|[V]^n|, m/s), ``slip_local`` ([v]^n, m/s, the true
 interface slip that heats), ``slip_plastic`` (sqrt(3) int d_eps dz/dt, m/s; 0 for the

@@ -33,7 +33,18 @@ import math
 import numpy as np
 from numba import njit
 
-from shockfriction.materials.strength import I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
+from shockfriction.materials.strength import (
+    I_BETA,
+    I_G,
+    I_G0,
+    I_H,
+    I_N,
+    I_TF,
+    I_XI,
+    I_Y0,
+    I_YMAX,
+    scg_shear_ratio,
+)
 
 SQRT3 = math.sqrt(3.0)
 OK, NO_CONVERGENCE, BAD_INPUT = 0, 2, 3
@@ -50,8 +61,7 @@ N_ENERGY = 9
 @njit(cache=True)
 def liquid_viscosity(T, eta_F, E_R, T_F):
     """Arrhenius melt viscosity eta_L = eta_F exp(E_R (1/T - 1/T_F)), T >= T_F (eta_F at the melting point)."""
-    if T < T_F:
-        T = T_F
+    T = max(T, T_F)
     return eta_F * math.exp(E_R * (1.0 / T - 1.0 / T_F))
 
 
@@ -179,7 +189,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         for j in range(nc):
             sold[c, j] = Gs[c, j] * ge[c, j]
             y = p[I_Y0] * (1.0 + p[I_BETA] * eps[c, j]) ** p[I_N]
-            yh[c, j] = y if y < p[I_YMAX] else p[I_YMAX]
+            yh[c, j] = min(p[I_YMAX], y)
     lo = np.empty((nn, nc))
     di = np.empty((nn, nc))
     up = np.empty((nn, nc))
@@ -224,8 +234,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             cp = tau_cap[j]
             if f >= 0.0:
                 t = tresca * scg_shear_ratio(F_N[j], Tmat[0, j], g_p, h_p, xi, T_F)
-                if t < cp:
-                    cp = t
+                cp = min(cp, t)
             cap[j] = cp
             act[j] = status[j] == OK
         # ---- mechanics: Newton on the node velocities, slip/stick switch at z = 0
@@ -288,8 +297,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 damp = 1.0 if it < 25 else (0.5 if it < 100 else 0.25)
                 for i in range(nn):
                     vn[i, j] += damp * rhs[i, j]
-                    if abs(rhs[i, j]) > dmax:
-                        dmax = abs(rhs[i, j])
+                    dmax = max(dmax, abs(rhs[i, j]))
                 if dmax <= mtol * (abs(v_free[j]) + abs(vn[0, j]) + 1e-3):
                     # converged on this branch: is the branch right?  (friction opposes the local slip)
                     vh = v_free[j] - ts[j] * k[j]
@@ -367,8 +375,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             dmax = 0.0
             for i in range(nn):
                 d = abs(Tit[i, j] - Tmat[i, j])
-                if d > dmax:
-                    dmax = d
+                dmax = max(dmax, d)
             if dmax > ptol:
                 done = False
         if done:
@@ -501,8 +508,7 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 if ((a <= es) != (b <= es)) or ((a <= es + rho_L) != (b <= es + rho_L)):
                     same = False
                 en[i, j] = b
-                if abs(rhs[i, j]) > dmax:
-                    dmax = abs(rhs[i, j])
+                dmax = max(dmax, abs(rhs[i, j]))
             if dmax <= tol * rho_c or same:
                 live[j] = False
             else:
