@@ -12,7 +12,8 @@ linearised system::
     rho c s Th     = -kappa k^2 Th + chi (tau0 Gp + gp0 T_au)      (heat, Taylor-Quinney chi)
     Gp             = F_tau T_au + F_eps E + F_theta Th             (linearised flow rule)
 
-is x' = A x for x = (V, T_au, E, Th); the growth rate of wavenumber k is the largest real part of the
+is x' = A x for x = (V, T_au, E, Th).  A total-form elasticity tau = G(theta) gamma_e (G softening with
+temperature at fixed elastic strain) adds dG/dtheta gamma_e0 s Th to the stress row (``G_theta_gamma_e``); the growth rate of wavenumber k is the largest real part of the
 eigenvalues of A (frozen coefficients: valid while the base state changes slowly over 1/s).  Without
 inertia (rho -> 0) the perturbation stress vanishes for k != 0 and the system reduces to (E, Th).
 
@@ -31,16 +32,19 @@ SQRT3 = math.sqrt(3.0)
 
 
 def layer_matrix(k: float, *, rho: float, G: float, rho_c: float, kappa: float, chi: float, tau0: float,
-                 gp0: float, F_tau: float, F_eps: float, F_theta: float, inertia: bool = True) -> np.ndarray:
+                 gp0: float, F_tau: float, F_eps: float, F_theta: float, inertia: bool = True,
+                 G_theta_gamma_e: float = 0.0) -> np.ndarray:
     """The matrix A of x' = A x (x = (V, T_au, E, Th) with inertia, (E, Th) without)."""
     if inertia:
-        return np.array([
+        A = np.array([
             [0.0, 1j * k / rho, 0.0, 0.0],
             [1j * k * G, -G * F_tau, -G * F_eps, -G * F_theta],
             [0.0, F_tau / SQRT3, F_eps / SQRT3, F_theta / SQRT3],
             [0.0, chi * (tau0 * F_tau + gp0) / rho_c, chi * tau0 * F_eps / rho_c,
              (-kappa * k * k + chi * tau0 * F_theta) / rho_c],
         ], dtype=complex)
+        A[1] += G_theta_gamma_e * A[3]  # d(G gamma_e)/dt = G d gamma_e/dt + gamma_e dG/dtheta dtheta/dt
+        return A
     return np.array([
         [F_eps / SQRT3, F_theta / SQRT3],
         [chi * tau0 * F_eps / rho_c, (-kappa * k * k + chi * tau0 * F_theta) / rho_c],
