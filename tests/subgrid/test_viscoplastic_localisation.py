@@ -47,7 +47,7 @@ def _run(inertia: bool, n_steps: int):
     c = ScgConstants.of(m)
     cols = ViscoplasticColumns(2, m, beta_T=1.0, thickness=H, n_cells=N_CELLS, f=None, taylor_quinney=0.9,
                                eta_vp=ETA_VP, inertia=inertia, T0=T_BASE, latent_heat=3.97e5,
-                               liquid_viscosity=1.3e-3, picard_tol=1e-14, far_end="fixed")
+                               liquid_viscosity=1.3e-3, picard_tol=1e-14, far_end="held")
     z = cols.z
     zc = 0.5 * (z[1:] + z[:-1])
     gp0 = V_SLIP / H

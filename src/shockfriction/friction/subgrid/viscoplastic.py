@@ -165,6 +165,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     eta_vp, eta_F, E_R = par[P_ETA_VP], par[P_ETA_F], par[P_E_R]
     beta_T, beta_Q, f = par[P_BETA_T], par[P_BETA_Q], par[P_F]
     inertia = par[P_INERTIA] > 0.5
+    held = math.isinf(par[P_Z])  # far end held at v = 0 also with inertia (far_end = "held")
     th = 1.0  # backward Euler (L-stable: no ringing at c_s dt/dz >> 1); its dissipation is turned into heat
     T_far = par[P_T_FAR]  # nan: insulated far end
     fixed_far = math.isfinite(T_far)
@@ -279,7 +280,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             for j in range(nc):
                 if act[j]:
                     up[M, j] = 0.0
-                    if inertia:
+                    if inertia and not held:
                         S[nn, j] = Zc[j] * ((1.0 - th) * v[M, j] + th * vn[M, j])
                         lo[M, j] = -Kc[M - 1, j]
                         di[M, j] = mass[M] / dt + Kc[M - 1, j] + th * Zc[j]
@@ -415,7 +416,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         energy[E_INTERFACE, j] += q_in[j] * dt
         v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
         energy[E_COLUMN_WORK, j] += ts[j] * v0m * dt
-        if inertia:
+        if inertia and not held:
             vmm = (1.0 - th) * v[M, j] + th * vn[M, j]
             energy[E_RADIATED, j] += Zc[j] * vmm * vmm * dt
         energy[E_HEAT_OUT, j] += hout[j]
@@ -557,6 +558,8 @@ class ViscoplasticColumns:
     f Ymax/sqrt3 G/G0 on the surface traction (None: the column's own resistance only); ``eta_vp`` overstress
     viscosity (Pa s; default the material's ``viscoplastic_viscosity`` or :data:`DEFAULT_ETA_VP`);
     ``inertia`` (False: quasi-static, v = 0 at z = h; True: impedance rho c_s at z = h);
+    ``far_end = "held"`` holds v = 0 at z = h also with inertia (a column between a driven surface and a fixed
+    base: the eigenmodes of the linear analysis, used by the localisation test);
     ``far_temperature`` (None: insulated far end).  Melt data from the material (``latent_heat``,
     ``liquid_viscosity`` at T_F, ``liquid_viscosity_activation``) or the keyword arguments.
 
@@ -571,7 +574,7 @@ class ViscoplasticColumns:
                  eta_vp: float | None = None, inertia: bool = True, T0: float = 300.0,
                  far_temperature: float | None = None, latent_heat: float | None = None,
                  liquid_viscosity: float | None = None, liquid_activation: float | None = None,
-                 mech_tol: float = 1e-13, heat_tol: float = 1e-11, picard_tol: float = 1e-6, max_picard: int = 30):
+                 far_end: str = "impedance", mech_tol: float = 1e-13, heat_tol: float = 1e-11, picard_tol: float = 1e-6, max_picard: int = 30):
         from shockfriction.friction.subgrid.column import control_weights, make_grid
         from shockfriction.materials.library import get_material
         m = get_material(material) if isinstance(material, str) else material
@@ -606,7 +609,9 @@ class ViscoplasticColumns:
         self.par[[P_RHO, P_C, P_KAPPA, P_L, P_T0]] = rho, m.heat_capacity, m.conductivity, L, T0
         self.par[[P_ETA_VP, P_ETA_F, P_E_R]] = self.eta_vp, eta_F, E_R
         self.par[[P_BETA_T, P_BETA_Q, P_F]] = beta_T, taylor_quinney, (-1.0 if f is None else float(f))
-        self.par[P_Z] = rho * m.shear_wave_speed
+        if far_end not in ("impedance", "held"):
+            raise ValueError(f"far_end must be 'impedance' or 'held', got {far_end!r}")
+        self.par[P_Z] = rho * m.shear_wave_speed if far_end == "impedance" else math.inf
         self.par[P_INERTIA] = 1.0 if inertia else 0.0
         self.par[P_T_FAR] = math.nan if far_temperature is None else float(far_temperature)
         self.par[[P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL]] = mech_tol, heat_tol, picard_tol
