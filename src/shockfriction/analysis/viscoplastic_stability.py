@@ -13,7 +13,8 @@ linearised system::
     Gp             = F_tau T_au + F_eps E + F_theta Th             (linearised flow rule)
 
 is x' = A x for x = (V, T_au, E, Th).  A total-form elasticity tau = G(theta) gamma_e (G softening with
-temperature at fixed elastic strain) adds dG/dtheta gamma_e0 s Th to the stress row (``G_theta_gamma_e``); the growth rate of wavenumber k is the largest real part of the
+temperature at fixed elastic strain) adds dG/dtheta gamma_e0 s Th to the stress row (``G_theta_gamma_e``);
+the growth rate of wavenumber k is the largest real part of the
 eigenvalues of A (frozen coefficients: valid while the base state changes slowly over 1/s).  Without
 inertia (rho -> 0) the perturbation stress vanishes for k != 0 and the system reduces to (E, Th).
 

@@ -84,6 +84,10 @@ from shockfriction.friction.subgrid.thermoelastoplastic import (finish_plastic_s
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
+#: per-node diagnostics of every model, arrays (n_columns,) (see the module docstring)
+NODE_DIAGNOSTICS = ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau", "friction_work",
+                    "heat_interface", "heat_plastic", "plastic_work", "lag_temperature", "melt_energy", "tau_coulomb",
+                    "tau_stick")
 MELT_MARGIN = 1.0  # K: the lagged plastic heat never takes a column node above T_F - MELT_MARGIN
 
 
@@ -137,9 +141,7 @@ class SubgridInterface:
         self._pending_depth = np.full(n, nn, dtype=np.int64)  # _pending_plastic_heat[j, _pending_depth[j]:] == 0
         self._deposited = np.zeros(n)
         self._use_front = True  # skip the nodes proven elastic (False: visit all, for the tests)
-        for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
-                     "friction_work", "heat_interface", "heat_plastic", "plastic_work", "lag_temperature",
-                     "melt_energy", "tau_coulomb", "tau_stick"):
+        for name in NODE_DIAGNOSTICS:
             setattr(self, name, np.zeros(n))
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
@@ -159,8 +161,7 @@ class SubgridInterface:
                                       taylor_quinney=beta_Q, eta_vp=opts.get("eta_vp"),
                                       inertia=bool(opts.get("inertia", True)), T0=T0)
         self.columns = self.vp
-        for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
-                     "friction_work", "heat_interface", "heat_plastic", "plastic_work", "lag_temperature"):
+        for name in NODE_DIAGNOSTICS:
             setattr(self, name, np.zeros(n))
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
