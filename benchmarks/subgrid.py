@@ -5,6 +5,7 @@
 Compares the batched numba path (SubgridInterface.step: one factored Thomas sweep per column
 per step, Brent in numba) with a plain baseline: one scipy.linalg.solve_banded per column per
 step and scipy.optimize.brentq on the same residual in Python (numpy for the plastic layer).
+The viscoplastic model (inertia on, eta_vp from the material or 50 Pa s) has no baseline.
 Loading: the thesis's Ball case (Al 5083-H111, 10 GPa, 150-250 m/s spread over the columns,
 f = 0.3, dt = 1 ns), after 20 warm-up steps.  Prints the median of the repeats.
 """
@@ -121,12 +122,16 @@ def main():
     args = ap.parse_args()
     fast("thermoelastic", 2, 10, 1)  # compile
     fast("thermoelastoplastic", 2, 10, 1)
+    fast("viscoplastic", 2, 10, 1)
     print(f"{args.columns} columns x {args.cells} cells, dt = 1 ns, median of {args.repeats} repeats")
     print(f"{'model':22s} {'numba node-steps/s':>20s} {'baseline node-steps/s':>22s} {'ratio':>8s}")
     for model in ("thermoelastic", "thermoelastoplastic"):
         f = statistics.median(fast(model, args.columns, args.cells, args.steps) for _ in range(args.repeats))
         s = statistics.median(slow(model, args.columns, args.cells, args.baseline_steps) for _ in range(args.repeats))
         print(f"{model:22s} {f:20.4g} {s:22.4g} {f / s:8.1f}")
+    # viscoplastic columns (inertia, overstress flow, enthalpy melting): no scipy baseline
+    f = statistics.median(fast("viscoplastic", args.columns, args.cells, args.steps) for _ in range(args.repeats))
+    print(f"{'viscoplastic':22s} {f:20.4g} {'-':>22s} {'-':>8s}")
 
 
 if __name__ == "__main__":

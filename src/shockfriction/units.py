@@ -34,6 +34,7 @@ DIMENSIONS: dict[str, tuple[str, str, str]] = {
     "inverse_pressure": ("1 / [pressure]", "1/Pa", "6.52e-11 1/Pa"),
     "inverse_temperature": ("1 / [temperature]", "1/K", "6.16e-4 1/K"),
     "slowness": ("[time] / [length]", "s/m", "0.05 s/m"),
+    "viscosity": ("[pressure] * [time]", "Pa*s", "1.3 mPa*s"),
     "dimensionless": ("", "", "0.3"),
 }
 
@@ -187,6 +188,7 @@ Slowness = Annotated[float, quantity("slowness")]
 Dimensionless = Annotated[float, quantity("dimensionless")]
 SpecificEnergy = Annotated[float, quantity("specific_energy")]
 SpecificHeat = Annotated[float, quantity("specific_heat")]
+Viscosity = Annotated[float, quantity("viscosity")]
 
 PositiveLength = Annotated[Length, Field(gt=0.0)]
 PositiveTime = Annotated[Time, Field(gt=0.0)]

@@ -46,7 +46,7 @@ def register(app: typer.Typer) -> None:
         if plots:
             title = model.title or deck.stem
             files.append(plot_interface(res.t, res.theta_interface, res.tau, res.names, res.melting_temperature,
-                                        out_dir / "interface.png", title))
+                                        out_dir / "interface.png", title, film=res.film))
             files.append(plot_profiles(res.z, res.profile_times, res.profiles, res.eps_profiles,
                                        out_dir / "profiles.png", title=title))
         con = Console()

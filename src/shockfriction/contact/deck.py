@@ -49,7 +49,7 @@ class FrictionDeck(SubgridFrictionOptions, DeckModel):
     """Friction law and its parameters (``shockfriction.friction.laws``; sub-grid laws: ``coupled.deck``)."""
 
     law: Literal["frictionless", "coulomb", "modified_coulomb", "tresca", "coulomb_tresca",
-                 "subgrid-thermoelastic", "subgrid-thermoelastoplastic"] = "frictionless"
+                 "subgrid-thermoelastic", "subgrid-thermoelastoplastic", "subgrid-viscoplastic"] = "frictionless"
     mu0: Optional[Dimensionless] = Field(None, ge=0.0, description="static coefficient (eq. 2.87)")
     mu_inf: Optional[Dimensionless] = Field(None, ge=0.0, description="dynamic coefficient (eq. 2.90)")
     gamma: Slowness = Field(0.0, ge=0.0, description="inverse threshold slip velocity, e.g. '0.01 s/m'")

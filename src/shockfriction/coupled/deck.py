@@ -27,7 +27,8 @@ from pydantic import BaseModel, Field, model_validator
 
 from shockfriction.units import Dimensionless, PositiveLength, PositiveTime
 
-SUBGRID_LAWS = {"subgrid-thermoelastic": "thermoelastic", "subgrid-thermoelastoplastic": "thermoelastoplastic"}
+SUBGRID_LAWS = {"subgrid-thermoelastic": "thermoelastic", "subgrid-thermoelastoplastic": "thermoelastoplastic",
+                "subgrid-viscoplastic": "viscoplastic"}
 _OPTIONS = ("f", "thickness", "cells", "grading", "body", "heat_share", "taylor_quinney", "profile_nodes",
             "profile_interval")
 

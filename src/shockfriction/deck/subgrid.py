@@ -3,7 +3,7 @@
 Every dimensional value is a string with its unit ("200 m/s", "10 GPa", "20 um").  Layout::
 
     title = "..."                       # optional
-    model = "thermoelastic"             # or "thermoelastoplastic" (thesis ch. 7 / ch. 8)
+    model = "thermoelastic"             # or "thermoelastoplastic" (thesis ch. 7 / ch. 8), or "viscoplastic"
     material = "Al5083-H111"            # the modelled body (library name)
     other_material = "AISI321"          # heat share beta_T = e1/(e1+e2) ... or:
     # heat_share = 0.677                # ... the share of the frictional heat entering the body
@@ -22,6 +22,11 @@ Every dimensional value is a string with its unit ("200 m/s", "10 GPa", "20 um")
     f = 0.3                             # the model's coefficient on the SCG strength
     taylor_quinney = 0.9
 
+    [viscoplastic]                      # optional, model = "viscoplastic" only (docs/theory/viscoplastic.md)
+    eta_vp = "50 Pa*s"                  # overstress viscosity (rate sensitivity); default: the material's or 50 Pa s
+    inertia = true                      # shear inertia + impedance far end (false: quasi-static, v = 0 at z = h)
+    tresca = true                       # the f Ymax/sqrt(3) G/G0 cap on the surface traction (false: column only)
+
     [[loading]]                         # one table per column (several: several columns)
     name = "ball"                       # optional; names the extra output files
     interpolation = "constant"          # or "linear" between the table's points
@@ -35,14 +40,14 @@ Every dimensional value is a string with its unit ("200 m/s", "10 GPa", "20 um")
 
 from __future__ import annotations
 
-from typing import Literal, Optional
+from typing import Annotated, Literal, Optional
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from shockfriction.deck.base import DeckModel
 from shockfriction.errors import DeckError
 from shockfriction.units import (Dimensionless, HeatFlux, NonNegativeTime, PositiveLength, PositiveTemperature,
-                                 PositiveTime, Pressure, Velocity)
+                                 PositiveTime, Pressure, Velocity, Viscosity)
 
 
 class ColumnDeck(DeckModel):
@@ -59,6 +64,17 @@ class FrictionDeck(DeckModel):
     mu0: Dimensionless = Field(ge=0.0)
     f: Dimensionless = Field(ge=0.0)
     taylor_quinney: Dimensionless = Field(default=0.9, ge=0.0, le=1.0)
+
+
+class ViscoplasticDeck(DeckModel):
+    """Options of the viscoplastic column model."""
+
+    eta_vp: Optional[Annotated[Viscosity, Field(ge=0.0)]] = None
+    inertia: bool = True
+    tresca: bool = True
+
+    def options(self) -> dict:
+        return {"eta_vp": self.eta_vp, "inertia": self.inertia, "tresca": self.tresca}
 
 
 class LoadingDeck(DeckModel):
@@ -105,7 +121,7 @@ class SubgridDeck(DeckModel):
     """The whole deck of ``shockfriction subgrid``."""
 
     title: str = ""
-    model: Literal["thermoelastic", "thermoelastoplastic"] = "thermoelastic"
+    model: Literal["thermoelastic", "thermoelastoplastic", "viscoplastic"] = "thermoelastic"
     material: str
     other_material: Optional[str] = None
     heat_share: Optional[Dimensionless] = Field(default=None, validate_default=True)
@@ -115,6 +131,7 @@ class SubgridDeck(DeckModel):
     output_times: list[NonNegativeTime] = Field(default_factory=list)
     column: ColumnDeck = Field(default_factory=ColumnDeck)
     friction: Optional[FrictionDeck] = None
+    viscoplastic: Optional[ViscoplasticDeck] = None
     loading: list[LoadingDeck] = Field(min_length=1)
     max_steps: int = Field(default=10_000_000, ge=1)
 
@@ -188,6 +205,19 @@ class SubgridDeck(DeckModel):
         if n > self.max_steps:
             raise ValueError(f"duration / dt = {n:.3g} steps: expected at most max_steps = {self.max_steps} "
                              "(a longer dt, a shorter duration, or raise max_steps)")
+        return self
+
+    @model_validator(mode="after")
+    def _viscoplastic_options(self):
+        if self.viscoplastic is not None and self.model != "viscoplastic":
+            raise ValueError("a [viscoplastic] table only with model = 'viscoplastic'")
+        if self.model == "viscoplastic":
+            from shockfriction.materials.library import get_material
+            m = get_material(self.material)
+            missing = [k for k in ("latent_heat", "liquid_viscosity") if not m.has(k)]
+            if missing:
+                raise ValueError(f"model 'viscoplastic' needs a material with {' and '.join(missing)} "
+                                 f"({self.material} has none)")
         return self
 
     @property

@@ -21,6 +21,10 @@ eos_gamma0          dimensionless   Grueneisen coefficient (Gamma rho = const)
 spall_strength      pressure        spall strength p_spall of the cut-off model
 tb_sigma0, tb_lambda pressure, -    Tuler-Butcher threshold and exponent
 tb_K                pressure^lambda x time  Tuler-Butcher damage constant (e.g. "1 GPa^2*us")
+latent_heat         specific_energy latent heat of fusion L (optional; viscoplastic sub-grid model)
+liquid_viscosity    viscosity       melt viscosity at Theta_F (optional; Arrhenius law, viscoplastic model)
+liquid_viscosity_activation temperature  E/R of eta_L = eta_F exp(E/R (1/T - 1/Theta_F)) (optional)
+viscoplastic_viscosity viscosity    overstress viscosity eta_vp of the solid (optional; viscoplastic model)
 ==================  ==============  ==============================================
 """
 
@@ -58,6 +62,10 @@ PARAMETER_KINDS: dict[str, str] = {
     "tb_sigma0": "pressure",
     "tb_lambda": "dimensionless",
     "tb_K": "pressure^lambda x time",
+    "latent_heat": "specific_energy",
+    "liquid_viscosity": "viscosity",
+    "liquid_viscosity_activation": "temperature",
+    "viscoplastic_viscosity": "viscosity",
 }
 REQUIRED = ("rho0", "conductivity", "melting_temperature", "G0", "Y0", "Ymax",
             "scg_beta", "scg_n", "scg_g", "scg_h", "scg_xi")

@@ -9,9 +9,17 @@ import numpy as np
 from shockfriction.plot import subplots
 
 
-def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title: str = "") -> Path:
-    """Interface temperature and friction stress against time, one curve per column (Figs. 7.8-7.9)."""
-    fig, (ax1, ax2) = subplots(2, 1, figsize=(7, 6.5), sharex=True)
+def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title: str = "", film=None) -> Path:
+    """Interface temperature and friction stress against time, one curve per column (Figs. 7.8-7.9);
+    with ``film`` (viscoplastic model, m) a third panel with the molten film thickness and a log stress axis."""
+    if film is None:
+        fig, (ax1, ax2) = subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    else:
+        fig, (ax1, ax2, ax3) = subplots(3, 1, figsize=(7, 8.5), sharex=True)
+        for k, name in enumerate(names):
+            ax3.plot(np.asarray(t) * 1e6, np.asarray(film)[:, k] * 1e9, label=name)
+        ax3.set_ylabel("molten film (nm)")
+        ax2.set_yscale("log")
     tus = np.asarray(t) * 1e6
     for k, name in enumerate(names):
         ax1.plot(tus, theta[:, k], label=name)
@@ -21,7 +29,7 @@ def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title:
     ax1.set_ylabel("interface temperature (K)")
     ax1.legend(loc="lower right", fontsize=8)
     ax2.set_ylabel("friction stress (MPa)")
-    ax2.set_xlabel("time (us)")
+    (ax2 if film is None else ax3).set_xlabel("time (us)")
     if not np.any(np.isfinite(tau)):
         ax2.text(0.5, 0.5, "pure thermal run: no friction stress", ha="center", transform=ax2.transAxes)
     if title:

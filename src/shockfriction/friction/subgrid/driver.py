@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Optional
 
 import numpy as np
 
@@ -74,6 +75,7 @@ class RunResult:
     eps_profiles: list[np.ndarray] = field(default_factory=list)
     files: list[Path] = field(default_factory=list)
     melting_temperature: float = math.nan
+    film: Optional[np.ndarray] = None     # (n_steps, n_columns) molten film thickness (viscoplastic model)
 
 
 def _names(deck) -> list[str]:
@@ -108,7 +110,8 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
         fr = deck.friction
         sg = SubgridInterface(n, mat, share, thickness=deck.column.thickness, n_cells=deck.column.cells,
                               grading=deck.column.grading, model=deck.model, mu0=fr.mu0, f=fr.f,
-                              taylor_quinney=fr.taylor_quinney, T0=deck.T0)
+                              taylor_quinney=fr.taylor_quinney, T0=deck.T0,
+                              viscoplastic=deck.viscoplastic.options() if deck.viscoplastic else None)
         columns = sg.columns
         z = sg.z
     nsteps = ends.size
@@ -121,8 +124,11 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
     hist = [p.open("w", newline="") for p in hist_files]
     prof = [p.open("w", newline="") for p in prof_files]
     try:
+        film = (not thermal) and deck.model == "viscoplastic"  # extra column: molten film thickness (m)
+        if film:
+            res.film = np.zeros((nsteps, n))
         for fh in hist:
-            fh.write(HISTORY_HEADER + "\n")
+            fh.write(HISTORY_HEADER + (",film_thickness_m" if film else "") + "\n")
         for fh in prof:
             fh.write(PROFILE_HEADER + "\n")
         eps0 = np.zeros((n, z.size))
@@ -152,9 +158,11 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
             res.tau[i] = tau
             res.flux_in[i] = q_in
             res.iterations[i] = iters
+            if film:
+                res.film[i] = sg.film_thickness
             for k, fh in enumerate(hist):
                 fh.write(f"{ends[i]:.9e},{theta_s[k]:.9e},{tau[k]:.9e},{slip_m[k]:.9e},{slip_l[k]:.9e},"
-                         f"{q_in[k]:.9e},{int(iters[k])}\n")
+                         f"{q_in[k]:.9e},{int(iters[k])}" + (f",{sg.film_thickness[k]:.9e}" if film else "") + "\n")
             if (i + 1) % FLUSH_EVERY == 0:
                 for fh in hist:
                     fh.flush()

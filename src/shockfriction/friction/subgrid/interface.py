@@ -47,6 +47,11 @@ with the heat flux beta_T tau |[v]| into the column and the interface temperatur
 (Brent, tolerance ``xtol`` kelvin).  ``slip`` in this module always means a relative
 tangential *velocity* (m/s), not a displacement.
 
+``model="viscoplastic"`` delegates to :class:`~shockfriction.friction.subgrid.viscoplastic.ViscoplasticColumns`
+(options ``viscoplastic={"eta_vp": Pa s, "inertia": bool, "tresca": bool}``; ``film_thickness`` in m; the
+plastic heat is deposited in the same step, ``heat_plastic`` then also holds the viscous, softening and
+numerical heat; column kinetic/elastic/radiated energies are in ``self.vp.energies()``).
+
 Per-node diagnostics after a step (arrays ``(n_columns,)``): ``theta_interface`` (K, column
 temperature at z = 0), ``slip_macro`` (|[V]^n|, m/s), ``slip_local`` ([v]^n, m/s, the true
 interface slip that heats), ``slip_plastic`` (sqrt(3) int d_eps dz/dt, m/s; 0 for the
@@ -78,7 +83,7 @@ from shockfriction.friction.subgrid.thermoelastoplastic import (finish_plastic_s
                                                                  solve_thermoelastoplastic)
 from shockfriction.materials.library import Material, get_material, heat_share
 
-MODELS = ("thermoelastic", "thermoelastoplastic")
+MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
 MELT_MARGIN = 1.0  # K: the lagged plastic heat never takes a column node above T_F - MELT_MARGIN
 
 
@@ -95,7 +100,8 @@ class SubgridInterface:
 
     def __init__(self, n_columns: int, material, other, *, thickness: float = 20e-6, n_cells: int = 500,
                  grading: float = 1.0, model: str = "thermoelastic", mu0: float, f: float,
-                 taylor_quinney: float = 0.9, T0: float = 300.0, xtol: float = 1e-9, max_iter: int = 100):
+                 taylor_quinney: float = 0.9, T0: float = 300.0, xtol: float = 1e-9, max_iter: int = 100,
+                 viscoplastic: dict | None = None):
         if model not in MODELS:
             raise ValueError(f"model must be one of {MODELS}, got {model!r}")
         self.material = _material(material)
@@ -111,6 +117,10 @@ class SubgridInterface:
         if not T0 < T_F:
             raise ValueError(f"initial temperature {T0} K must be below the melting temperature {T_F} K")
         m = self.material
+        if model == "viscoplastic":  # options: eta_vp (Pa s), inertia (bool), tresca (bool: the f branch)
+            self._init_viscoplastic(n_columns, thickness, n_cells, grading, mu0, f, taylor_quinney, T0,
+                                    dict(viscoplastic or {}))
+            return
         self.columns = ThermalColumns(n_columns, thickness, n_cells, m.conductivity, m.rho0, m.heat_capacity,
                                       T0=T0, grading=grading)
         self.model = model
@@ -137,6 +147,55 @@ class SubgridInterface:
         self._theta_s = np.zeros(n)
         self._v_half = np.zeros(n)
 
+    def _init_viscoplastic(self, n, thickness, n_cells, grading, mu0, f, beta_Q, T0, opts):
+        from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns
+        unknown = set(opts) - {"eta_vp", "inertia", "tresca"}
+        if unknown:
+            raise ValueError(f"unknown viscoplastic options {sorted(unknown)}: expected eta_vp, inertia, tresca")
+        self.model = "viscoplastic"
+        self.mu0, self.f, self.beta_Q = float(mu0), float(f), float(beta_Q)
+        self.vp = ViscoplasticColumns(n, self.material, beta_T=self.beta_T, thickness=thickness, n_cells=n_cells,
+                                      grading=grading, f=self.f if opts.get("tresca", True) else None,
+                                      taylor_quinney=beta_Q, eta_vp=opts.get("eta_vp"),
+                                      inertia=bool(opts.get("inertia", True)), T0=T0)
+        self.columns = self.vp
+        for name in ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau",
+                     "friction_work", "heat_interface", "heat_plastic", "plastic_work", "lag_temperature"):
+            setattr(self, name, np.zeros(n))
+        self.theta_interface[:] = T0
+        self.iterations = np.zeros(n, dtype=np.int64)
+        self.eps_p = np.zeros((n, self.vp.z.size))  # cell values on the node above (last node: last cell)
+        self._pending_plastic_heat = np.zeros((n, self.vp.z.size))  # no lagged heat: deposited in the same step
+
+    def _step_viscoplastic(self, F_N, vf, vp, k, tau_cap, dt, when):
+        c = self.vp
+        tau, v_half = c.step(F_N, vf, vp, k, tau_cap, dt)
+        if c.status.any():
+            j = int(np.argmax(c.status != 0))
+            raise SimulationError(f"sub-grid step {when}: node {j}: the viscoplastic column solve failed "
+                                  f"(status {int(c.status[j])}, theta(0) = {c.T[0, j]!r} K)")
+        self.tau[:] = tau
+        self.theta_interface[:] = c.T[0]
+        self.slip_macro[:] = c.slip_macro
+        self.slip_local[:] = c.slip_local
+        self.flux_in[:] = c.flux_in
+        self.slip_plastic[:] = self.slip_macro - self.slip_local
+        self.iterations[:] = np.abs(c.iterations)
+        self.eps_p[:, :-1] = c.eps.T
+        self.eps_p[:, -1] = c.eps[-1]
+        E = c.energies()
+        self.friction_work[:] = E["friction_work"]
+        self.heat_interface[:] = E["heat_interface"]
+        self.plastic_work[:] = E["plastic_work"]
+        self.heat_plastic[:] = self.beta_Q * E["plastic_work"] + E["viscous_heat"] + E["softening_heat"] \
+            + E["numerical_heat"]
+        return tau, v_half
+
+    @property
+    def film_thickness(self) -> np.ndarray:
+        """Molten layer thickness per column (m; viscoplastic model only, zeros otherwise)."""
+        return self.vp.film_thickness.copy() if self.model == "viscoplastic" else np.zeros(self.n_columns)
+
     # ------------------------------------------------------------------ views
     @property
     def n_columns(self) -> int:
@@ -152,6 +211,8 @@ class SubgridInterface:
 
     @property
     def heat_stored(self) -> np.ndarray:
+        if self.model == "viscoplastic":
+            return self.vp.heat_stored()
         return self.columns.heat_content()
 
     @property
@@ -192,6 +253,8 @@ class SubgridInterface:
         self.tau_coulomb[:] = self.mu0 * np.where(in_contact, sig, 0.0)  # the caps, kept for branch tallies
         self.tau_stick[:] = tau_stick
         F_N = np.where(in_contact, sig, 0.0)
+        if self.model == "viscoplastic":
+            return self._step_viscoplastic(F_N, vf, vp, k, tau_cap, dt, when)
 
         plastic = self.model == "thermoelastoplastic"
         deposited = None

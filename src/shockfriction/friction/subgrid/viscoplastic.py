@@ -1,0 +1,726 @@
+"""Viscoplastic interface columns with shear inertia, enthalpy melting and a Newtonian melt
+(the thesis's announced third sub-grid model; theory and sources in docs/theory/viscoplastic.md).
+
+Per column (z = 0 the sliding surface, z = h the macroscopic body), with s = -sigma_xz the shear
+stress in the loading sense, v the material velocity relative to the body, gamma_dot = -dv/dz::
+
+    rho dv/dt = -ds/dz                      (inertia = False: ds/dz = 0)
+    s = s_sol + eta_L(T) gamma_dot          (eta_L only where G(p, T) = 0: the melt)
+    s_sol = G(p, T) gamma_e,  d gamma_e/dt = gamma_dot - gamma_p_dot
+    |s_sol| - Y(eps, p, T)/sqrt(3) = eta_vp gamma_p_dot  (Perzyna/Duvaut-Lions overstress; eps = gamma_p/sqrt(3))
+    d e/dt = d/dz(kappa dT/dz) + beta_Q s_sol gamma_p_dot + eta_L gamma_dot^2 (+ softening release)
+    e = rho c (T - T0) + rho L phi           (enthalpy; phi in [0, 1] the melt fraction at T_F)
+
+G and Y are the SCG functions of materials/strength.py with p = sigma_n.  Surface traction
+(the thesis's law, the column's own resistance as the model stress)::
+
+    |s(0)| = min(mu0 sigma_n, tau_stick, f Ymax/sqrt(3) G(sigma_n, T(0))/G0 [optional], column stress at sticking)
+
+slip heat beta_T |s(0)| (V - v(0)) enters at z = 0.  Far end: impedance s = rho c_s v (inertia on) or
+v = 0 (quasi-static); thermally insulated, or a fixed temperature.
+
+Discretisation: staggered grid, v and e at the nodes z_i (lumped masses rho w_i), s, gamma_e, eps in the
+cells.  Mechanics by the implicit midpoint rule (trapezoidal, energy-conserving for the elastic part),
+plastic return by backward Euler with implicit hardening (scalar convex Newton per cell), heat by backward
+Euler on the enthalpy with a conservative final update; mechanics and heat coupled by Picard iterations.
+All 2D arrays are (n_nodes or n_cells, n_columns): the column index is innermost.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from shockfriction.materials.strength import (
+    I_BETA,
+    I_G,
+    I_G0,
+    I_H,
+    I_N,
+    I_TF,
+    I_XI,
+    I_Y0,
+    I_YMAX,
+    scg_shear_ratio,
+)
+
+SQRT3 = math.sqrt(3.0)
+OK, NO_CONVERGENCE, BAD_INPUT = 0, 2, 3
+# parameter vector of the kernel (besides the SCG array)
+(P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
+ P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL) = range(17)
+N_PAR = 17
+# energy accumulators per column (J/m^2), rows of the ``energy`` array
+(E_FRICTION, E_INTERFACE, E_COLUMN_WORK, E_PLASTIC, E_VISCOUS, E_SOFTENING, E_RADIATED, E_HEAT_OUT,
+ E_NUMERICAL) = range(9)
+N_ENERGY = 9
+
+
+@njit(cache=True)
+def liquid_viscosity(T, eta_F, E_R, T_F):
+    """Arrhenius melt viscosity eta_L = eta_F exp(E_R (1/T - 1/T_F)), T >= T_F (eta_F at the melting point)."""
+    T = max(T, T_F)
+    return eta_F * math.exp(E_R * (1.0 / T - 1.0 / T_F))
+
+
+@njit(cache=True)
+def temperature_of(e, rho_c, rho_L, T0, T_F):
+    """T(e) of the enthalpy e = rho c (T - T0) + rho L phi; returns (T, dT/de, phi)."""
+    es = rho_c * (T_F - T0)
+    if e <= es:
+        return T0 + e / rho_c, 1.0 / rho_c, 0.0
+    if e <= es + rho_L:
+        return T_F, 0.0, (e - es) / rho_L
+    return T_F + (e - es - rho_L) / rho_c, 1.0 / rho_c, 1.0
+
+
+@njit(cache=True)
+def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, p):
+    """Plastic increment x = d gamma_p >= 0 of |s_tr| - (G + eta_vp/dt) x - Y(eps + x/sqrt3) k_fac = 0,
+    k_fac = (G/G0)/sqrt(3); returns (x, d|s'|/d|s_tr|).  The left side is convex and decreasing in x,
+    so Newton from x = 0 climbs monotonically to the root (no overshoot).  ``y_start`` = min(Ymax, Y0 (1 + beta
+    eps)^n), the hardening at the start of the step (computed once per step)."""
+    Y0, beta, n, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
+    if G <= 0.0:
+        return 0.0, 0.0
+    if s_abs <= y_start * k_fac:
+        return 0.0, 1.0
+    c = G + eta_dt
+    x = 0.0
+    dk = 0.0
+    for _ in range(100):
+        e = eps + x / SQRT3
+        hb = 1.0 + beta * e
+        y = Y0 * hb ** n
+        if y >= Ymax:
+            k = Ymax * k_fac
+            dk = 0.0
+        else:
+            k = y * k_fac
+            dk = Y0 * n * beta * hb ** (n - 1.0) * k_fac / SQRT3
+        fv = s_abs - c * x - k
+        dx = fv / (c + dk)
+        x += dx
+        if abs(dx) <= 1e-15 * x:
+            break
+    return x, (eta_dt + dk) / (c + dk)
+
+
+@njit(cache=True)
+def _thomas_masked(lo, di, up, rhs, act, nn, nc):
+    """Solve the tridiagonal systems (rows i, columns j innermost) in place into rhs for columns with act[j]."""
+    for i in range(1, nn):
+        for j in range(nc):
+            if act[j]:
+                m = lo[i, j] / di[i - 1, j]
+                di[i, j] -= m * up[i - 1, j]
+                rhs[i, j] -= m * rhs[i - 1, j]
+    for j in range(nc):
+        if act[j]:
+            rhs[nn - 1, j] /= di[nn - 1, j]
+    for i in range(nn - 2, -1, -1):
+        for j in range(nc):
+            if act[j]:
+                rhs[i, j] = (rhs[i, j] - up[i, j] * rhs[i + 1, j]) / di[i, j]
+
+
+@njit(cache=True)
+def _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th):
+    """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of cell c.
+
+    th = 1/2 (inertia: implicit midpoint) or 1 (quasi-static: backward Euler); gd and S are the
+    th-weighted strain rate and stress that enter the momentum balance."""
+    gd = ((1.0 - th) * (v[c, j] - v[c + 1, j]) + th * (vn[c, j] - vn[c + 1, j])) / dz[c]
+    g = G[c, j]
+    if g <= 0.0:  # molten cell: no solid stress; its stored elastic strain is released as plastic strain
+        S = (1.0 - th) * sold[c, j] + eta[c, j] * gd
+        return gd, 0.0, ge[c, j] + dt * gd, S, eta[c, j] * th / dz[c]
+    s_tr = g * (ge[c, j] + dt * gd)
+    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, eps[c, j], yh[c, j], kf[c, j], p)
+    sg = 1.0 if s_tr >= 0.0 else -1.0
+    snew = s_tr - sg * g * x
+    S = (1.0 - th) * sold[c, j] + th * snew + eta[c, j] * gd
+    K = (th * dsds * g * dt + eta[c, j]) * th / dz[c]
+    return gd, snew, sg * x, S, K
+
+
+@njit(cache=True)
+def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+                      tau, v_half, v_local, q_in, film, iters, status, energy):
+    """Advance every column by dt (state arrays updated in place; see the module docstring).
+
+    State: v (nn, nc) velocity, ge (M, nc) elastic shear strain, Gs (M, nc) modulus of the stored stress
+    (s = Gs ge), eps (M, nc) equivalent plastic strain, e (nn, nc) enthalpy density rel. T0, T (nn, nc).
+    Per column inputs: F_N normal stress, v_free = [V*], v_prev = [V]^{n-1/2}, k = S dt (1/m_s + 1/m_g),
+    tau_cap = min(mu0 F_N, tau_stick).  Outputs: tau = |s(0)|, v_half = [V]^{n+1/2}, v_local = slip at the
+    surface (V - v(0), midpoint), q_in = beta_T tau v_local, film = molten thickness (m), iters (Picard),
+    status, energy (N_ENERGY, nc) accumulated.
+    """
+    nn, nc = v.shape
+    M = nn - 1
+    rho, cth, kap, L, T0 = par[P_RHO], par[P_C], par[P_KAPPA], par[P_L], par[P_T0]
+    rho_c, rho_L = rho * cth, rho * L
+    eta_vp, eta_F, E_R = par[P_ETA_VP], par[P_ETA_F], par[P_E_R]
+    beta_T, beta_Q, f = par[P_BETA_T], par[P_BETA_Q], par[P_F]
+    inertia = par[P_INERTIA] > 0.5
+    held = math.isinf(par[P_Z])  # far end held at v = 0 also with inertia (far_end = "held")
+    th = 1.0  # backward Euler (L-stable: no ringing at c_s dt/dz >> 1); its dissipation is turned into heat
+    T_far = par[P_T_FAR]  # nan: insulated far end
+    fixed_far = math.isfinite(T_far)
+    mtol, htol, ptol = par[P_MECH_TOL], par[P_HEAT_TOL], par[P_PICARD_TOL]
+    G0, T_F = p[I_G0], p[I_TF]
+    g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
+    tresca = f * p[I_YMAX] / SQRT3
+    mass = np.empty(nn)
+    for i in range(nn):
+        mass[i] = rho * w[i] if inertia else 0.0
+    # work arrays
+    Tit = T.copy()   # temperatures of the last heat solve
+    Tmat = T.copy()  # temperatures that set G, Y, eta_L and the Tresca branch (relaxed Picard iterate)
+    hout = np.zeros(nc)
+    vn = v.copy()
+    G = np.empty((M, nc))
+    kf = np.empty((M, nc))
+    eta = np.empty((M, nc))
+    sold = np.empty((M, nc))
+    yh = np.empty((M, nc))  # hardening at the start of the step
+    for c in range(M):
+        for j in range(nc):
+            sold[c, j] = Gs[c, j] * ge[c, j]
+            y = p[I_Y0] * (1.0 + p[I_BETA] * eps[c, j]) ** p[I_N]
+            yh[c, j] = min(p[I_YMAX], y)
+    lo = np.empty((nn, nc))
+    di = np.empty((nn, nc))
+    up = np.empty((nn, nc))
+    rhs = np.empty((nn, nc))
+    S = np.empty((nn + 1, nc))  # S[0] surface traction, S[c+1] cell c midpoint stress, S[nn] far end
+    Kc = np.empty((M, nc))
+    src = np.zeros((nn, nc))
+    dgp = np.zeros((M, nc))
+    snew = np.zeros((M, nc))
+    gdm = np.zeros((M, nc))
+    en = e.copy()
+    act = np.ones(nc, np.bool_)
+    stick = np.zeros(nc, np.bool_)
+    sgn = np.empty(nc)
+    cap = np.empty(nc)
+    ts = np.zeros(nc)
+    Zc = np.zeros(nc)
+    dirn = np.ones(nc)  # slip branch: +1 the slider drags the surface, -1 the surface overtakes the slider
+    nsw = np.zeros(nc, np.int64)
+    blo = np.full(nc, -np.inf)  # bracket of the interface temperature root
+    bhi = np.full(nc, np.inf)
+    xprev = np.zeros(nc)
+    rprev = np.zeros(nc)
+    for j in range(nc):
+        status[j] = OK
+        iters[j] = 0
+        sgn[j] = 1.0 if v_free[j] >= 0.0 else -1.0
+        if not (math.isfinite(F_N[j]) and math.isfinite(v_free[j]) and math.isfinite(v_prev[j])
+                and math.isfinite(k[j]) and tau_cap[j] >= 0.0):
+            status[j] = BAD_INPUT
+    for pic in range(max_iter):
+        # ---- material state at the trial temperatures
+        for c in range(M):
+            for j in range(nc):
+                Tc = 0.5 * (Tmat[c, j] + Tmat[c + 1, j])
+                r = scg_shear_ratio(F_N[j], Tc, g_p, h_p, xi, T_F)
+                G[c, j] = G0 * r
+                kf[c, j] = r / SQRT3
+                eta[c, j] = liquid_viscosity(Tc, eta_F, E_R, T_F) if r <= 0.0 else 0.0
+        for j in range(nc):
+            Zc[j] = math.sqrt(rho * G[M - 1, j])  # far-end impedance rho c_s with c_s^2 = G(p, T(h))/rho
+            cp = tau_cap[j]
+            if f >= 0.0:
+                t = tresca * scg_shear_ratio(F_N[j], Tmat[0, j], g_p, h_p, xi, T_F)
+                cp = min(cp, t)
+            cap[j] = cp
+            act[j] = status[j] == OK
+        # ---- mechanics: Newton on the node velocities, slip/stick switch at z = 0
+        for j in range(nc):
+            nsw[j] = 0
+        for it in range(200):
+            for c in range(M):
+                for j in range(nc):
+                    if act[j]:
+                        gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p,
+                                                        eta_vp, th)
+                        S[c + 1, j] = Sm
+                        Kc[c, j] = K
+            for j in range(nc):
+                if not act[j]:
+                    continue
+                # surface row
+                if stick[j]:
+                    if k[j] > 0.0:
+                        ts[j] = (v_free[j] - vn[0, j]) / k[j]
+                        S[0, j] = ts[j]
+                        di[0, j] = mass[0] / dt + Kc[0, j] + 1.0 / k[j]
+                        rhs[0, j] = -(mass[0] * (vn[0, j] - v[0, j]) / dt - S[0, j] + S[1, j])
+                    else:
+                        di[0, j] = 1.0
+                        rhs[0, j] = -(vn[0, j] - v_free[j])
+                    up[0, j] = 0.0 if k[j] <= 0.0 else -Kc[0, j]
+                else:
+                    ts[j] = dirn[j] * sgn[j] * cap[j]
+                    S[0, j] = ts[j]
+                    di[0, j] = mass[0] / dt + Kc[0, j]
+                    up[0, j] = -Kc[0, j]
+                    rhs[0, j] = -(mass[0] * (vn[0, j] - v[0, j]) / dt - S[0, j] + S[1, j])
+                lo[0, j] = 0.0
+            for i in range(1, M):
+                for j in range(nc):
+                    if act[j]:
+                        lo[i, j] = -Kc[i - 1, j]
+                        up[i, j] = -Kc[i, j]
+                        di[i, j] = mass[i] / dt + Kc[i - 1, j] + Kc[i, j]
+                        rhs[i, j] = -(mass[i] * (vn[i, j] - v[i, j]) / dt - S[i, j] + S[i + 1, j])
+            for j in range(nc):
+                if act[j]:
+                    up[M, j] = 0.0
+                    if inertia and not held:
+                        S[nn, j] = Zc[j] * ((1.0 - th) * v[M, j] + th * vn[M, j])
+                        lo[M, j] = -Kc[M - 1, j]
+                        di[M, j] = mass[M] / dt + Kc[M - 1, j] + th * Zc[j]
+                        rhs[M, j] = -(mass[M] * (vn[M, j] - v[M, j]) / dt - S[M, j] + S[nn, j])
+                    else:
+                        lo[M, j] = 0.0
+                        di[M, j] = 1.0
+                        rhs[M, j] = -vn[M, j]
+            _thomas_masked(lo, di, up, rhs, act, nn, nc)
+            any_act = False
+            for j in range(nc):
+                if not act[j]:
+                    continue
+                dmax = 0.0
+                # plain Newton; damped when it cycles between plastic and elastic cells (piecewise-smooth return)
+                damp = 1.0 if it < 25 else (0.5 if it < 100 else 0.25)
+                for i in range(nn):
+                    vn[i, j] += damp * rhs[i, j]
+                    dmax = max(dmax, abs(rhs[i, j]))
+                if dmax <= mtol * (abs(v_free[j]) + abs(vn[0, j]) + 1e-3):
+                    # converged on this branch: is the branch right?  (friction opposes the local slip)
+                    vh = v_free[j] - ts[j] * k[j]
+                    if stick[j]:
+                        if k[j] <= 0.0:  # imposed slip: traction from the node balance
+                            S0 = mass[0] * (vn[0, j] - v[0, j]) / dt + S[1, j]
+                        else:
+                            S0 = (v_free[j] - vn[0, j]) / k[j]
+                        ts[j] = S0
+                        if abs(S0) > cap[j] * (1.0 + 1e-12) and nsw[j] < 8:
+                            stick[j] = False
+                            dirn[j] = 1.0 if sgn[j] * S0 > 0.0 else -1.0
+                            nsw[j] += 1
+                        else:
+                            act[j] = False
+                    elif dirn[j] * sgn[j] * (vn[0, j] - vh) > 0.0 and nsw[j] < 8:
+                        stick[j] = True
+                        nsw[j] += 1
+                    else:
+                        act[j] = False
+                if act[j]:
+                    any_act = True
+            if not any_act:
+                break
+        for j in range(nc):
+            if act[j]:
+                status[j] = NO_CONVERGENCE
+        # ---- final cell states, heat sources
+        for j in range(nc):
+            act[j] = status[j] == OK
+            for i in range(nn):
+                src[i, j] = 0.0
+        for c in range(M):
+            for j in range(nc):
+                if act[j]:
+                    gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th)
+                    gdm[c, j] = gd
+                    S[c + 1, j] = Sm
+                    snew[c, j] = sn
+                    dgp[c, j] = dg
+                    ssol = (1.0 - th) * sold[c, j] + th * sn
+                    ge_new = sn / G[c, j] if G[c, j] > 0.0 else 0.0
+                    wp = ssol * dg * dz[c]
+                    wv = eta[c, j] * gd * gd * dt * dz[c]
+                    del_el = 0.5 * (G[c, j] * ge_new * ge_new - Gs[c, j] * ge[c, j] * ge[c, j]) * dz[c]
+                    wsoft = ssol * (ge_new - ge[c, j]) * dz[c] - del_el
+                    h = beta_Q * wp + wv + wsoft
+                    src[c, j] += 0.5 * h
+                    src[c + 1, j] += 0.5 * h
+        for i in range(nn):  # kinetic energy dissipated by backward Euler, m (v' - v)^2/2: heat at the node
+            for j in range(nc):
+                if act[j]:
+                    dv = vn[i, j] - v[i, j]
+                    src[i, j] += 0.5 * mass[i] * dv * dv
+        for j in range(nc):
+            if act[j]:
+                if stick[j] and k[j] <= 0.0:  # imposed slip: the traction that balances node 0
+                    ts[j] = mass[0] * (vn[0, j] - v[0, j]) / dt + S[1, j]
+                vh = v_free[j] - ts[j] * k[j]
+                vm = 0.5 * (vh + v_prev[j])
+                v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
+                v_half[j] = vh
+                v_local[j] = sgn[j] * (vm - v0m)
+                tau[j] = sgn[j] * ts[j]  # < 0 only while the surface overtakes the slider (rebound)
+                q_in[j] = beta_T * ts[j] * (vm - v0m)  # >= 0: the traction opposes the local slip
+                src[0, j] += q_in[j] * dt
+        # ---- heat: backward Euler on the enthalpy
+        hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, htol, 100)
+        # ---- Picard convergence on the temperatures that set G, Y and eta
+        done = True
+        for j in range(nc):
+            if not act[j]:
+                continue
+            iters[j] = pic + 1
+            dmax = 0.0
+            for i in range(nn):
+                d = abs(Tit[i, j] - Tmat[i, j])
+                dmax = max(dmax, d)
+            if dmax > ptol:
+                done = False
+        if done:
+            break
+        # next material temperatures: plain Picard in the column; at z = 0 (where the Tresca branch and the
+        # steepest softening act) a safeguarded secant on r(Theta) = T_heat(0; Theta) - Theta
+        for j in range(nc):
+            if not act[j]:
+                continue
+            x = Tmat[0, j]
+            r = Tit[0, j] - x
+            if r > 0.0:
+                blo[j] = max(blo[j], x)
+            else:
+                bhi[j] = min(bhi[j], x)
+            if pic == 0:
+                xn = Tit[0, j]
+            else:
+                den = r - rprev[j]
+                xn = x - r * (x - xprev[j]) / den if den != 0.0 else Tit[0, j]
+            if not (blo[j] < xn < bhi[j]):
+                xn = 0.5 * (blo[j] + bhi[j]) if math.isfinite(bhi[j]) else Tit[0, j]
+            xprev[j] = x
+            rprev[j] = r
+            Tmat[0, j] = xn
+            for i in range(1, nn):
+                Tmat[i, j] = Tit[i, j]
+    # ---- commit
+    for j in range(nc):
+        if status[j] != OK:
+            continue
+        if iters[j] >= max_iter:
+            iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is still exact)
+        vh = v_half[j]
+        energy[E_FRICTION, j] += ts[j] * 0.5 * (vh + v_prev[j]) * dt
+        energy[E_INTERFACE, j] += q_in[j] * dt
+        v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
+        energy[E_COLUMN_WORK, j] += ts[j] * v0m * dt
+        if inertia and not held:
+            vmm = (1.0 - th) * v[M, j] + th * vn[M, j]
+            energy[E_RADIATED, j] += Zc[j] * vmm * vmm * dt
+        energy[E_HEAT_OUT, j] += hout[j]
+        thick = 0.0
+        for i in range(nn):
+            dv = vn[i, j] - v[i, j]
+            energy[E_NUMERICAL, j] += 0.5 * mass[i] * dv * dv
+        for c in range(M):
+            sn = snew[c, j]
+            ssol = (1.0 - th) * sold[c, j] + th * sn
+            dg = dgp[c, j]
+            gd = gdm[c, j]
+            ge_new = sn / G[c, j] if G[c, j] > 0.0 else 0.0
+            del_el = 0.5 * (G[c, j] * ge_new * ge_new - Gs[c, j] * ge[c, j] * ge[c, j]) * dz[c]
+            energy[E_PLASTIC, j] += ssol * dg * dz[c]
+            energy[E_VISCOUS, j] += eta[c, j] * gd * gd * dt * dz[c]
+            energy[E_SOFTENING, j] += ssol * (ge_new - ge[c, j]) * dz[c] - del_el
+            eps[c, j] = eps[c, j] + abs(dg) / SQRT3 if G[c, j] > 0.0 else 0.0  # the melt forgets its hardening
+            ge[c, j] = ge_new
+            Gs[c, j] = G[c, j]
+            if G[c, j] <= 0.0:
+                thick += dz[c]
+        film[j] = thick
+        for i in range(nn):
+            v[i, j] = vn[i, j]
+            e[i, j] = en[i, j]
+            T[i, j] = Tit[i, j]
+    return 0
+
+
+@njit(cache=True)
+def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, tol, max_iter):
+    """Backward Euler on the enthalpy, w_i (e'_i - e_i) = dt [kappa dT'/dz]_{i-1/2}^{i+1/2} + src_i (J/m^2), by
+    Newton in e' (dT/de = 0 in the mushy zone); then the conservative update e' = e + (src + dt flux(T'))/w from the
+    last iterate's temperatures, so that the discrete energy balance is exact.  Far end insulated, or held at T_far
+    (the heat leaving there is returned per column, J/m^2).  Fills en (new enthalpy) and Tout (T(en))."""
+    nn, nc = e.shape
+    M = nn - 1
+    Tk = np.empty((nn, nc))
+    dT = np.empty((nn, nc))
+    lo = np.empty((nn, nc))
+    di = np.empty((nn, nc))
+    up = np.empty((nn, nc))
+    rhs = np.empty((nn, nc))
+    live = act.copy()
+    hout = np.zeros(nc)
+    for j in range(nc):
+        if act[j]:
+            for i in range(nn):
+                en[i, j] = e[i, j]
+    for it in range(max_iter):
+        for i in range(nn):
+            for j in range(nc):
+                if live[j]:
+                    Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
+        for i in range(nn):
+            for j in range(nc):
+                if not live[j]:
+                    continue
+                res = w[i] * (en[i, j] - e[i, j]) - src[i, j]
+                d = w[i]
+                lo[i, j] = 0.0
+                up[i, j] = 0.0
+                if i > 0:
+                    a = dt * kap / dz[i - 1]
+                    res += a * (Tk[i, j] - Tk[i - 1, j])
+                    d += a * dT[i, j]
+                    lo[i, j] = -a * dT[i - 1, j]
+                if i < M:
+                    a = dt * kap / dz[i]
+                    res += a * (Tk[i, j] - Tk[i + 1, j])
+                    d += a * dT[i, j]
+                    up[i, j] = -a * dT[i + 1, j]
+                if i == M and fixed_far:
+                    res = 0.0
+                    d = 1.0
+                    lo[i, j] = 0.0
+                di[i, j] = d
+                rhs[i, j] = -res
+        _thomas_masked(lo, di, up, rhs, live, nn, nc)
+        any_live = False
+        es = rho_c * (T_F - T0)
+        for j in range(nc):
+            if not live[j]:
+                continue
+            dmax = 0.0
+            same = True  # no node changed branch of T(e): the linearised step was exact
+            for i in range(nn):
+                a = en[i, j]
+                b = a + rhs[i, j]
+                if ((a <= es) != (b <= es)) or ((a <= es + rho_L) != (b <= es + rho_L)):
+                    same = False
+                en[i, j] = b
+                dmax = max(dmax, abs(rhs[i, j]))
+            if dmax <= tol * rho_c or same:
+                live[j] = False
+            else:
+                any_live = True
+        if not any_live:
+            break
+    for i in range(nn):
+        for j in range(nc):
+            if act[j]:
+                Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
+    for i in range(nn):
+        for j in range(nc):
+            if not act[j]:
+                continue
+            flux = src[i, j]
+            if i > 0:
+                flux -= dt * kap / dz[i - 1] * (Tk[i, j] - Tk[i - 1, j])
+            if i < M:
+                flux -= dt * kap / dz[i] * (Tk[i, j] - Tk[i + 1, j])
+            if i == M and fixed_far:
+                hout[j] = flux  # what node M would gain: it leaves through z = h
+                en[i, j] = e[i, j]
+            else:
+                en[i, j] = e[i, j] + flux / w[i]
+            Tout[i, j], _, _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
+    return hout
+
+
+# --------------------------------------------------------------------------- the columns
+#: default overstress viscosity eta_vp (Pa s) when the material has none (see docs/theory/viscoplastic.md)
+DEFAULT_ETA_VP = 50.0
+#: Arrhenius activation temperature of liquid Al, Assael et al. 2006: log10(eta/mPa s) = -0.7324 + 803.49/T
+AL_LIQUID_E_R = 803.49 * math.log(10.0)
+
+
+class ViscoplasticColumns:
+    """``n_columns`` viscoplastic columns of one material (arrays (n_nodes, n_columns), SI).
+
+    Construct, then call :meth:`step` once per time step with per-column arrays (scalars broadcast):
+    ``sigma_n`` (Pa, compression > 0), ``v_free`` = [V*]^{n+1/2}, ``slip_prev`` = [V]^{n-1/2} (m/s),
+    ``k`` = S dt (1/m_s + 1/m_g) (0: imposed slip), ``tau_cap`` = min(mu0 sigma_n, tau_stick) (Pa).
+    It returns ``(tau, v_half)``: |s(0)| and [V]^{n+1/2} = v_free - sign tau k.
+
+    Parameters: ``beta_T`` heat share entering the column; ``f`` the optional SCG "Tresca" branch
+    f Ymax/sqrt3 G/G0 on the surface traction (None: the column's own resistance only); ``eta_vp`` overstress
+    viscosity (Pa s; default the material's ``viscoplastic_viscosity`` or :data:`DEFAULT_ETA_VP`);
+    ``inertia`` (False: quasi-static, v = 0 at z = h; True: impedance rho c_s at z = h);
+    ``far_end = "held"`` holds v = 0 at z = h also with inertia (a column between a driven surface and a fixed
+    base: the eigenmodes of the linear analysis, used by the localisation test);
+    ``far_temperature`` (None: insulated far end).  Melt data from the material (``latent_heat``,
+    ``liquid_viscosity`` at T_F, ``liquid_viscosity_activation``) or the keyword arguments.
+
+    Diagnostics after a step (n_columns,): ``tau``, ``theta_interface`` (K), ``slip_local`` (V - v(0)),
+    ``slip_macro`` (|[V]^n|), ``flux_in`` (W/m^2), ``film_thickness`` (m, cells with no strength left),
+    ``iterations`` (Picard); profiles ``theta``, ``eps_p`` (n_columns, n_nodes / n_cells, copies), ``velocity``,
+    ``stress``; :meth:`energies` (J/m^2 per column) and :meth:`energy_residual`.
+    """
+
+    def __init__(self, n_columns: int, material, *, beta_T: float, thickness: float = 20e-6, n_cells: int = 500,
+                 grading: float = 1.0, f: float | None = None, taylor_quinney: float = 0.9,
+                 eta_vp: float | None = None, inertia: bool = True, T0: float = 300.0,
+                 far_temperature: float | None = None, latent_heat: float | None = None,
+                 liquid_viscosity: float | None = None, liquid_activation: float | None = None,
+                 far_end: str = "impedance", mech_tol: float = 1e-13, heat_tol: float = 1e-11, picard_tol: float = 1e-6, max_picard: int = 30):
+        from shockfriction.friction.subgrid.column import control_weights, make_grid
+        from shockfriction.materials.library import get_material
+        m = get_material(material) if isinstance(material, str) else material
+        self.material = m
+        if n_columns < 1:
+            raise ValueError(f"n_columns must be >= 1, got {n_columns!r}")
+        if not 0.0 <= beta_T <= 1.0:
+            raise ValueError(f"heat share must lie in [0, 1], got {beta_T!r}")
+        T_F = m.melting_temperature
+        self.z = make_grid(thickness, int(n_cells), grading)
+        self.dz = np.diff(self.z)
+        self.weights = control_weights(self.z)
+
+        def pick(arg, key, default):
+            if arg is not None:
+                return float(arg)
+            return m.parameters[key].value if m.has(key) else default
+        self.eta_vp = pick(eta_vp, "viscoplastic_viscosity", DEFAULT_ETA_VP)
+        L = pick(latent_heat, "latent_heat", math.nan)
+        eta_F = pick(liquid_viscosity, "liquid_viscosity", math.nan)
+        E_R = pick(liquid_activation, "liquid_viscosity_activation", AL_LIQUID_E_R)
+        if not (L > 0.0 and eta_F > 0.0 and E_R >= 0.0 and self.eta_vp >= 0.0):
+            raise ValueError(f"material {m.name!r}: the viscoplastic model needs latent_heat > 0 and "
+                             f"liquid_viscosity > 0 (got {L!r}, {eta_F!r}) and eta_vp >= 0 (got {self.eta_vp!r})")
+        if not (T0 < T_F or far_temperature is not None):
+            raise ValueError(f"initial temperature {T0} K must be below the melting temperature {T_F} K")
+        self.inertia = bool(inertia)
+        rho = m.rho0
+        self.rho_c = rho * m.heat_capacity
+        self.rho_L = rho * L
+        self.par = np.zeros(N_PAR)
+        self.par[[P_RHO, P_C, P_KAPPA, P_L, P_T0]] = rho, m.heat_capacity, m.conductivity, L, T0
+        self.par[[P_ETA_VP, P_ETA_F, P_E_R]] = self.eta_vp, eta_F, E_R
+        self.par[[P_BETA_T, P_BETA_Q, P_F]] = beta_T, taylor_quinney, (-1.0 if f is None else float(f))
+        if far_end not in ("impedance", "held"):
+            raise ValueError(f"far_end must be 'impedance' or 'held', got {far_end!r}")
+        self.par[P_Z] = rho * m.shear_wave_speed if far_end == "impedance" else math.inf
+        self.par[P_INERTIA] = 1.0 if inertia else 0.0
+        self.par[P_T_FAR] = math.nan if far_temperature is None else float(far_temperature)
+        self.par[[P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL]] = mech_tol, heat_tol, picard_tol
+        self.max_picard = int(max_picard)
+        self.scg = m.scg_params()
+        self.T0, self.T_F, self.beta_T = float(T0), T_F, float(beta_T)
+        nn, nc = self.z.size, int(n_columns)
+        self.v = np.zeros((nn, nc))
+        self.ge = np.zeros((nn - 1, nc))
+        self.Gs = np.zeros((nn - 1, nc))
+        self.eps = np.zeros((nn - 1, nc))
+        self.e = np.zeros((nn, nc))
+        self.T = np.full((nn, nc), self.T0)
+        self.energy = np.zeros((N_ENERGY, nc))
+        for name in ("tau", "slip_local", "slip_macro", "flux_in", "film_thickness", "_v_half"):
+            setattr(self, name, np.zeros(nc))
+        self.iterations = np.zeros(nc, dtype=np.int64)
+        self.status = np.zeros(nc, dtype=np.int64)
+        self._e_initial = self.mechanical_energy() + self.heat_stored()
+
+    @property
+    def n_columns(self) -> int:
+        return self.v.shape[1]
+
+    def set_temperature(self, T) -> None:
+        """Impose a temperature field (K; scalar or (n_nodes, n_columns)) at melt fraction 1 above T_F (tests)."""
+        T = np.broadcast_to(np.asarray(T, float), self.T.shape)
+        liquid = T >= self.T_F
+        self.e[...] = self.rho_c * (T - self.T0) + np.where(liquid, self.rho_L, 0.0)
+        self.T[...] = T
+        self._e_initial = self.mechanical_energy() + self.heat_stored()
+
+    def step(self, sigma_n, v_free, slip_prev, k, tau_cap, dt: float):
+        """Advance all columns by dt; return (tau, v_half) (see the class docstring)."""
+        nc = self.n_columns
+        arr = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float), (nc,)))
+               for a in (sigma_n, v_free, slip_prev, k, tau_cap)]
+        viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
+                          *arr, self.scg, self.par, float(dt), self.max_picard, self.tau, self._v_half,
+                          self.slip_local, self.flux_in, self.film_thickness, self.iterations, self.status,
+                          self.energy)
+        self.slip_macro[:] = np.abs(0.5 * (self._v_half + arr[2]))
+        return self.tau.copy(), self._v_half.copy()
+
+    # ------------------------------------------------------------------ diagnostics
+    @property
+    def theta_interface(self) -> np.ndarray:
+        return self.T[0].copy()
+
+    @property
+    def theta(self) -> np.ndarray:
+        return self.T.T.copy()
+
+    @property
+    def eps_p(self) -> np.ndarray:
+        return self.eps.T.copy()
+
+    @property
+    def velocity(self) -> np.ndarray:
+        return self.v.T.copy()
+
+    @property
+    def stress(self) -> np.ndarray:
+        """Solid shear stress per cell (Pa), (n_columns, n_cells)."""
+        return (self.Gs * self.ge).T.copy()
+
+    def melt_fraction(self) -> np.ndarray:
+        es = self.rho_c * (self.T_F - self.T0)
+        return np.clip((self.e - es) / self.rho_L, 0.0, 1.0)
+
+    def heat_stored(self) -> np.ndarray:
+        """Enthalpy per unit area (J/m^2): sensible + latent."""
+        return self.weights @ self.e
+
+    def latent_stored(self) -> np.ndarray:
+        return self.rho_L * (self.weights @ self.melt_fraction())
+
+    def kinetic(self) -> np.ndarray:
+        rho = self.par[P_RHO] if self.inertia else 0.0
+        return 0.5 * rho * (self.weights @ self.v**2)
+
+    def elastic(self) -> np.ndarray:
+        return 0.5 * (self.dz @ (self.Gs * self.ge**2))
+
+    def mechanical_energy(self) -> np.ndarray:
+        return self.kinetic() + self.elastic()
+
+    def energies(self) -> dict[str, np.ndarray]:
+        """Cumulative energies per column (J/m^2)."""
+        E = self.energy
+        out = {name: E[i].copy() for i, name in enumerate(
+            ("friction_work", "heat_interface", "column_work", "plastic_work", "viscous_heat", "softening_heat",
+             "radiated", "heat_out", "numerical_heat"))}
+        bQ = self.par[P_BETA_Q]
+        out["heat_other_body"] = out["friction_work"] - out["heat_interface"] - out["column_work"]
+        out["cold_work"] = (1.0 - bQ) * out["plastic_work"]
+        out["kinetic"] = self.kinetic()
+        out["elastic"] = self.elastic()
+        out["heat_stored"] = self.heat_stored()
+        out["latent"] = self.latent_stored()
+        return out
+
+    def energy_residual(self) -> np.ndarray:
+        """friction work - (heat to the other body + stored heat (sensible + latent) + heat out + cold work +
+        kinetic + elastic + radiated - initial), relative to the friction work (per column)."""
+        d = self.energies()
+        other = d["friction_work"] - d["heat_interface"] / self.beta_T - d["column_work"] if self.beta_T > 0 else 0.0
+        total = ((1.0 - self.beta_T) / self.beta_T * d["heat_interface"] if self.beta_T > 0 else 0.0) + other
+        total = total + d["heat_stored"] + d["heat_out"] + d["cold_work"] + d["kinetic"] + d["elastic"] \
+            + d["radiated"] - self._e_initial
+        scale = np.maximum(np.abs(d["friction_work"]), np.abs(d["column_work"]))
+        return (d["friction_work"] - total) / np.where(scale > 0, scale, 1.0)

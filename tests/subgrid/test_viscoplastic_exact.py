@@ -1,0 +1,109 @@
+"""Viscoplastic sub-grid columns against exact solutions: d'Alembert shear wave and non-reflecting far end,
+exact discrete energy balance, steady Couette melt film with viscous heating (docs/theory/viscoplastic.md)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns
+from shockfriction.materials.library import get_material, heat_share
+from shockfriction.materials.strength import scg_shear_modulus
+
+AL = get_material("Al5083-H111")
+ST = get_material("AISI321")
+BETA = heat_share(AL, ST)
+P_WAVE = 1e9  # normal stress of the wave tests: G = G(p, 300 K) sets c_s and the impedance
+G_P = scg_shear_modulus(P_WAVE, 300.0, AL.scg_params())
+ZP = math.sqrt(AL.rho0 * G_P)
+CS = math.sqrt(G_P / AL.rho0)
+MELT = {"latent_heat": 3.97e5, "liquid_viscosity": 0.844e-3}
+
+
+def wave_run(t_end, n_cells=100, h=4e-6, V=1.0):
+    c = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=h, n_cells=n_cells, inertia=True, **MELT)
+    dt = 0.25 * (h / n_cells) / CS
+    n = int(round(t_end / dt))
+    for _ in range(n):
+        c.step(P_WAVE, V, V, 0.0, 1e12, dt)  # velocity step V imposed at z = 0 (stick, imposed slip)
+    return c, n * dt
+
+
+def test_shear_wave_matches_dalembert():
+    """tau(z, t) = rho c_s V H(c_s t - z): plateau value and front position (inertia on, elastic)."""
+    V = 1.0
+    c, t = wave_run(0.6e-9)
+    Z = ZP
+    s = c.stress[0] / (Z * V)
+    zc = 0.5 * (c.z[1:] + c.z[:-1])
+    front = CS * t
+    behind = zc < front - 0.3e-6
+    plateau = np.mean(s[behind])
+    # first cell (from z = 0) where the stress falls below half the plateau
+    k = np.argmax(s < 0.5)
+    dz = c.z[1]
+    print(f"\nplateau {plateau:.5f} (exact 1), front {zc[k]*1e6:.3f} um vs {front*1e6:.3f} um (dz {dz*1e9:.0f} nm), "
+          f"max |s - 1| behind {np.max(np.abs(s[behind] - 1)):.3f}")
+    assert plateau == pytest.approx(1.0, abs=1e-4)  # measured 1e-5 (backward Euler: no ripples)
+    assert abs(zc[k] - front) < 1.0 * dz
+    assert np.all(np.abs(s[zc > front + 0.5e-6]) < 0.05)   # nothing ahead of the front
+    # the surface traction is the impedance times the imposed velocity
+    assert c.tau[0] == pytest.approx(Z * V, rel=2e-3)
+
+
+def test_far_end_impedance_does_not_reflect():
+    """After the front has left through z = h the column carries tau = rho c_s V and v = V uniformly
+    (a reflection from a free/fixed end would give 0 or 2 rho c_s V)."""
+    V = 1.0
+    c, _ = wave_run(3.0e-9)
+    Z = ZP
+    s = c.stress[0] / (Z * V)
+    print(f"\nafter exit: stress/ZV in [{s.min():.4f}, {s.max():.4f}], v/V in [{c.v.min():.4f}, {c.v.max():.4f}]")
+    print(f"mean stress/ZV {s.mean():.5f}, mean v/V {c.v.mean():.5f}")
+    assert abs(s.mean() - 1.0) < 1e-4 and abs(c.v.mean() / V - 1.0) < 1e-4   # a reflection would give O(1)
+    assert np.max(np.abs(s - 1.0)) < 1e-3      # measured 3e-4 (the smeared tail of the front)
+    assert np.max(np.abs(c.v[:, 0] / V - 1.0)) < 1e-3
+    assert c.energies()["radiated"][0] > 0.0
+
+
+@pytest.mark.parametrize("inertia", [True, False])
+def test_energy_balance_is_exact(inertia):
+    """friction work = heat to the other body + stored heat (sensible + latent) + cold work + kinetic
+    + elastic + radiated, to round-off, at Ball loading with f = 0.7 (plastic flow) and with no Tresca
+    branch at 5 GPa (the column melts: latent heat and viscous film)."""
+    cols = ViscoplasticColumns(2, AL, beta_T=BETA, thickness=10e-6, n_cells=100, inertia=inertia, f=None, **MELT)
+    worst = 0.0
+    film = 0.0
+    for n in range(300):
+        cols.step([10e9, 5e9], [200.0, 250.0], [200.0, 250.0], 0.0, [0.7 * 680e6 / math.sqrt(3), 3e9], 1e-9)
+        assert np.all(cols.status == 0)
+        worst = max(worst, np.max(np.abs(cols.energy_residual())))
+        film = max(film, cols.film_thickness[1])
+    d = cols.energies()
+    print(f"\ninertia={inertia}: max relative energy residual {worst:.2e}; latent {d['latent']} J/m^2, "
+          f"film {film*1e9:.0f} nm, T(0) {cols.theta_interface}")
+    assert worst < 1e-10
+    assert d["plastic_work"][0] > 0.0
+    assert d["latent"][1] > 0.0 and d["viscous_heat"][1] > 0.0
+
+
+def test_couette_film_with_viscous_heating():
+    """Steady Couette film: surface (z = 0) stuck to the slider at V, adiabatic; z = h fixed, held at T_h.
+    Constant viscosity: tau = eta V/h, T(z) = T_h + eta V^2/(2 kappa h^2) (h^2 - z^2)."""
+    eta, V, h, T_h = 0.1, 500.0, 2e-6, AL.melting_temperature + 200.0
+    c = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=h, n_cells=40, inertia=False, f=None,
+                            latent_heat=3.97e5, liquid_viscosity=eta, liquid_activation=0.0, far_temperature=T_h)
+    c.set_temperature(T_h)
+    for _ in range(1000):
+        c.step(1e9, V, V, 0.0, 1e12, 1e-9)
+    tau_exact = eta * V / h
+    T_exact = T_h + eta * V**2 / (2 * AL.conductivity * h**2) * (h**2 - c.z**2)
+    rise = T_exact[0] - T_h
+    err_T = np.max(np.abs(c.T[:, 0] - T_exact)) / rise
+    err_tau = abs(c.tau[0] / tau_exact - 1)
+    print(f"\nCouette: tau {c.tau[0]/1e6:.4f} MPa (exact {tau_exact/1e6:.4f}), rise {c.T[0,0]-T_h:.3f} K "
+          f"(exact {rise:.3f}), rel. errors T {err_T:.2e}, tau {err_tau:.2e}; film {c.film_thickness[0]*1e6:.2f} um")
+    assert err_tau < 1e-12
+    assert err_T < 1e-9   # measured 2e-13: the vertex-centred scheme is exact for the parabola
+    assert c.film_thickness[0] == pytest.approx(h)
+    assert abs(c.energy_residual()[0]) < 1e-10
