@@ -4,9 +4,13 @@
   pydantic models (:func:`shockfriction.deck.schema.markdown_reference`), and
   ``reference/<kind>.schema.json``, the JSON schema that ``shockfriction schema KIND`` prints;
 * ``verification.md``: every verification table of the theory pages (docs/theory.md and
-  docs/theory/*.md), collected under the heading it belongs to;
-* the ``theory/*.md`` entry of the nav is replaced by every docs/theory/*.md file, and pages
-  that the nav does not list are added under 'More' (a strict build never fails on them);
+  docs/theory/*.md, in the order the index docs/theory.md lists them), collected under the
+  heading it belongs to;
+* the ``theory/*.md`` entry of the nav is replaced by every docs/theory/*.md file the nav does
+  not list by name, and pages that the nav does not list are added under 'More' (a strict build
+  never fails on them);
+* ``<!-- theory-pages -->`` in the theory index is replaced by a list of the docs/theory/*.md
+  pages that it does not link to yet (pages other branches add);
 * ``<!-- gallery -->`` in a page is replaced by every figure under docs/figures/, and
   ``<!-- examples -->`` by a table of the files in examples/ (their leading comment).
 """
@@ -26,8 +30,21 @@ sys.path.insert(0, str(ROOT / "src"))
 THEORY_GLOB = "theory/*.md"
 
 
+_INDEX_LINK = re.compile(r"\]\((theory/[^)#\s]+\.md)(?:#[^)]*)?\)")
+
+
+def _indexed_pages() -> list[str]:
+    """The docs/theory/*.md pages the index docs/theory.md links to, in its order."""
+    index = DOCS / "theory.md"
+    found = _INDEX_LINK.findall(index.read_text(encoding="utf-8")) if index.exists() else []
+    return [p for p in dict.fromkeys(found) if (DOCS / p).exists()]
+
+
 def _theory_pages() -> list[str]:
-    return sorted(p.relative_to(DOCS).as_posix() for p in (DOCS / "theory").glob("*.md"))
+    """Every docs/theory/*.md page: those the index lists (chapters first), then the others."""
+    listed = _indexed_pages()
+    rest = sorted(p.relative_to(DOCS).as_posix() for p in (DOCS / "theory").glob("*.md"))
+    return listed + [p for p in rest if p not in listed]
 
 
 def _title(path: str) -> str:
@@ -37,13 +54,13 @@ def _title(path: str) -> str:
     return Path(path).stem.replace("-", " ").replace("_", " ")
 
 
-def _expand_nav(items: list) -> list:
+def _expand_nav(items: list, named: set[str]) -> list:
     out = []
     for item in items:
         if item == THEORY_GLOB:
-            out += [{_title(p): p} for p in _theory_pages()]
+            out += [{_title(p): p} for p in _theory_pages() if p not in named]
         elif isinstance(item, dict):
-            out.append({k: _expand_nav(v) if isinstance(v, list) else v for k, v in item.items()})
+            out.append({k: _expand_nav(v, named) if isinstance(v, list) else v for k, v in item.items()})
         else:
             out.append(item)
     return out
@@ -51,7 +68,7 @@ def _expand_nav(items: list) -> list:
 
 def on_config(config, **kwargs):
     if config.get("nav"):
-        config["nav"] = _expand_nav(config["nav"])
+        config["nav"] = _expand_nav(config["nav"], set(_nav_paths(config["nav"])))
     return config
 
 
@@ -141,6 +158,8 @@ def verification_page() -> str:
 # --- figure gallery ----------------------------------------------------------------------------------
 
 def on_page_markdown(markdown: str, page, config, files, **kwargs) -> str:
+    if "<!-- theory-pages -->" in markdown:
+        markdown = markdown.replace("<!-- theory-pages -->", unindexed_theory_list())
     if "<!-- examples -->" in markdown:
         markdown = markdown.replace("<!-- examples -->", example_table())
     if "<!-- gallery -->" not in markdown:
@@ -155,6 +174,15 @@ def on_page_markdown(markdown: str, page, config, files, **kwargs) -> str:
             caption = png.stem.replace("_", " ")
             blocks += [f"![{caption}]({prefix}{rel}/{png.name})", f"*{png.name}*", ""]
     return markdown.replace("<!-- gallery -->", "\n".join(blocks))
+
+
+def unindexed_theory_list() -> str:
+    """A list of the docs/theory/*.md pages the index does not link to (empty when none)."""
+    indexed = set(_indexed_pages())
+    extra = [p for p in _theory_pages() if p not in indexed]
+    if not extra:
+        return ""
+    return "\n".join(["Pages added since this index was written:", ""] + [f"- [{_title(p)}]({p})" for p in extra])
 
 
 # --- example table -----------------------------------------------------------------------------------

@@ -30,7 +30,28 @@ def test_verification_page_collects_the_theory_tables():
     pytest.importorskip("mkdocs")
     page = _hooks().verification_page()
     assert page.count("| tolerance |") + page.count("| result |") >= 3
-    assert "(theory.md#" in page
+    for chapter in ("subgrid-models", "hydrocode", "exact-solutions", "slide-lines"):  # docs/theory.md split by chapter
+        assert f"(theory/{chapter}.md#" in page, chapter
+
+
+def test_theory_index_lists_every_theory_page_chapters_first():
+    pytest.importorskip("mkdocs")
+    hooks = _hooks()
+    pages = sorted(p.relative_to(ROOT / "docs").as_posix() for p in (ROOT / "docs" / "theory").glob("*.md"))
+    indexed = hooks._indexed_pages()
+    assert indexed[:3] == ["theory/conventions.md", "theory/subgrid-models.md", "theory/hydrocode.md"]
+    assert sorted(hooks._theory_pages()) == pages
+    assert set(pages) - set(indexed) == {p.split("(")[1].rstrip(")") for p in hooks.unindexed_theory_list().splitlines()
+                                         if p.startswith("- [")}
+
+
+def test_theory_nav_glob_adds_only_pages_not_named():
+    pytest.importorskip("mkdocs")
+    hooks = _hooks()
+    nav = [{"Theory": ["theory.md", {"Hydro": "theory/hydrocode.md"}, "theory/*.md"]}]
+    expanded = hooks._nav_paths(hooks._expand_nav(nav, set(hooks._nav_paths(nav))))
+    assert expanded.count("theory/hydrocode.md") == 1
+    assert "theory/reliability.md" in expanded and "theory/*.md" not in expanded
 
 
 def test_mkdocs_build_strict(tmp_path):

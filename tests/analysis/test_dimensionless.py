@@ -3,7 +3,7 @@
 Reference values: thesis section 5.2.2 (digest thesis-part2 sections 3.6 and 8.2). The
 printed figures are compared within half a unit of their last printed digit, except
 the two errata (steel h^ printed 0.361 um, steel N2 printed 2.612e-4) which are
-compared with the corrected value (docs/theory.md (analyses)).
+compared with the corrected value (docs/theory/analyses.md).
 """
 
 import math

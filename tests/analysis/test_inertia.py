@@ -1,4 +1,4 @@
-"""Layer stability with shear inertia (N2 > 0), which the thesis leaves out (docs/theory.md (analyses)).
+"""Layer stability with shear inertia (N2 > 0), which the thesis leaves out (docs/theory/analyses.md).
 
 The cubic of stability.inertial_growth_rate is checked against the 4x4 Fourier system
 of the linearised equations written out directly (its determinant must vanish at each

@@ -87,7 +87,7 @@ def test_limit_reproduces_the_recomputed_table(key):
 
 def test_thesis_statement_for_aluminium_and_the_steel_discrepancy():
     """Al: 0.8 < eps_max < 1.2 away from melting (theta <= 1100 K) at 0 and 40 GPa (thesis 6.3.4).
-    Steel: the thesis says 'the same', eq. 6.72 gives 1.88 (erratum, docs/theory.md (analyses))."""
+    Steel: the thesis says 'the same', eq. 6.72 gives 1.88 (erratum, docs/theory/analyses.md)."""
     theta = np.linspace(300, 1100, 81)
     for P in (0.0, 40e9):
         lim = max_stable_strain(ScgConstants.of(AL), theta, P)
@@ -140,7 +140,7 @@ def test_limit_is_clipped_and_undefined_at_melt():
 
 def test_documented_artefact_within_a_kelvin_of_melting():
     """Within ~0.3 K of T_F, dG/dtheta -> 0 with G (exp(-xi T/(T_F - T)) flattens), so eq. 6.72
-    rises again; the minimum sits about xi theta/2 ~ 0.6 K below T_F (docs/theory.md (analyses))."""
+    rises again; the minimum sits about xi theta/2 ~ 0.6 K below T_F (docs/theory/analyses.md)."""
     for m in (AL, ST):
         c = ScgConstants.of(m)
         gaps = np.geomspace(20.0, 0.01, 400)

@@ -5,7 +5,7 @@ without the relaxation of the law's slip), slip-independent laws give the same i
 evaluations, and ``evaluation = "free"`` is the thesis's eq. 3.79.  Hydrocode level: the elastic
 pressure-shear strip (steel on steel, 100 m/s at 30 degrees, mu0 = 0.3, mu_inf = 0.05,
 gamma = 0.05 s/m) converges to the exact root s = V_t - mu(s) sigma_n (1/Z_1s + 1/Z_2s) with
-30/60/120 cells per plate; the thesis's free-slip evaluation stays 5-8% low (docs/theory.md (slide lines),
+30/60/120 cells per plate; the thesis's free-slip evaluation stays 5-8% low (docs/theory/slide-lines.md,
 section 4)."""
 
 import math

@@ -1,7 +1,7 @@
 """Sedov blast on a genuinely 2D Cartesian mesh (plane strain, quarter plane): the cylindrical
 similarity solution, read along the x axis and along the diagonal (mesh isotropy).
 
-Known to fail (a limitation documented in docs/theory.md (hydrocode, verification): the diagonal cell at the edge of the
+Known to fail (a limitation documented in docs/theory/hydrocode.md and docs/theory/exact-solutions.md: the diagonal cell at the edge of the
 energy deposit inverts within ~70 cycles), hence xfail; when it runs, the shock radius along
 both directions must be within 3 % of R(t) and within 2 % of each other.
 """
@@ -19,7 +19,7 @@ from shockfriction.hydro.api import prepare, run_simulation
 DECKS = Path(__file__).resolve().parents[2] / "examples" / "verification"
 
 
-@pytest.mark.xfail(reason="a limitation documented in docs/theory.md (hydrocode): the diagonal cell inverts early in Cartesian Sedov",
+@pytest.mark.xfail(reason="a limitation documented in docs/theory/hydrocode.md: the diagonal cell inverts early in Cartesian Sedov",
                    strict=False)
 def test_sedov_cartesian_quarter_plane():
     cells, deposit_radius = 50, 3.0

@@ -16,7 +16,7 @@ Each small number lets a group of terms of the deviation problem drop
 (section 5.3); :data:`TERMS` lists them with the thesis equations.  A term is
 declared negligible when its coefficient is at most ``threshold`` (default 0.01,
 i.e. the term is 1 % of the leading-order terms or less; documented in
-docs/theory.md (analyses)).
+docs/theory/analyses.md).
 
 Layer thicknesses (SI):
 

@@ -20,7 +20,7 @@ satisfies, from the state ahead (index a) to the state behind (index b),
 
 where e is the EOS energy and W_el the stored elastic shear energy per unit mass
 (e receives -P dV and the plastic work, as in the hydrocode).  Derivation and the
-HEL formula sigma_HEL = (K + 4G/3) Y / (2G) in docs/theory.md (verification).
+HEL formula sigma_HEL = (K + 4G/3) Y / (2G) in docs/theory/exact-solutions.md.
 """
 
 from __future__ import annotations

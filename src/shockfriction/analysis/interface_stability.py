@@ -1,7 +1,7 @@
 """Linear stability of steady sliding with a velocity-dependent law on the discrete lattice.
 
 Used to explain and pin the choice of the slip at which the slide lines evaluate a
-velocity-dependent friction law (docs/theory.md (slide lines), section 4).
+velocity-dependent friction law (docs/theory/slide-lines.md, section 4).
 
 Model: two identical semi-infinite shear lattices (node masses M = rho h S, springs
 k = G S/h, interface nodes M/2) meet at a slide line; leapfrog in time; antisymmetric

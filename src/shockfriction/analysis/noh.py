@@ -4,7 +4,7 @@ Cold gas (p = 0, density rho0) flows towards the origin at speed u0 in planar
 (j = 1), cylindrical (j = 2) or spherical (j = 3) geometry.  A shock leaves the
 origin at constant speed D and stagnates the gas.  Mass, momentum and energy
 jumps across the shock, with the stagnated gas at rest, give
-(docs/theory.md (verification)):
+(docs/theory/exact-solutions.md):
 
     D = (gamma - 1) u0 / 2
     rho_shocked = rho0 ((gamma + 1)/(gamma - 1))^j,  u = 0,

@@ -11,7 +11,7 @@ The star-region pressure p* is the root of Toro's pressure function
 with A_K = 2 / ((gamma + 1) rho_K), B_K = (gamma - 1) p_K / (gamma + 1).
 f is monotone increasing and concave, so Newton from the two-rarefaction
 guess converges; u* = (u_L + u_R)/2 + (f_R(p*) - f_L(p*))/2.  The solution
-is self-similar and is sampled at xi = (x - x0)/t (docs/theory.md (verification)).
+is self-similar and is sampled at xi = (x - x0)/t (docs/theory/exact-solutions.md).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ lambda = r/R and the shock speed Rdot = 2 R / ((j+2) t), the flow behind the sho
     u = Rdot f(lambda),  rho = rho0 g(lambda),  p = rho0 Rdot^2 h(lambda),
 
 and the Euler equations reduce to three ODEs (w = f - lambda, derived in
-docs/theory.md (verification)):
+docs/theory/exact-solutions.md):
 
     w g' + g (f' + (j-1) f/lambda) = 0
     w f' + h'/g = (j/2) f

@@ -157,7 +157,7 @@ def inertial_growth_rate(c: ScgConstants, eps0: float, theta: float, pressure: f
     """Most unstable root s of the linearised layer WITH shear inertia (not analysed in the thesis).
 
     Normal modes exp(i k z + s t) of rho s dv = ik dtau, ik dv = sqrt(3) s deps, (6.28) and
-    (6.29) give the cubic [DERIVED, docs/theory.md (analyses)]::
+    (6.29) give the cubic [DERIVED, docs/theory/analyses.md]::
 
         3 rho (rho c) s^3 + 3 rho (kappa k^2 - epsdot0 Y_theta) s^2
             + (rho c Y_eps + sqrt(3) tau0 Y_theta) k^2 s + kappa Y_eps k^4 = 0

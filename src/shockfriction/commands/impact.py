@@ -2,7 +2,7 @@
 
 Hydrodynamic impedance match on the two Mie-Grueneisen Hugoniots and, with strength, the
 elastic-plastic two-wave solution in each plate (analysis/hugoniot.py; theory in
-docs/theory.md (verification)).
+docs/theory/exact-solutions.md).
 """
 
 from __future__ import annotations

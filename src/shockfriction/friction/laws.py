@@ -18,7 +18,7 @@ COULOMB_TRESCA (4)    min(mu |F_N|, mu_T min(Y1, Y2)/sqrt(3))        (eq. 2.92 w
                       mu as in law 2; mu_T = NaN means mu_T = mu       eq. 2.164-2.166, 3.80-3.81)
 ====================  ===========================================================
 
-Which slip speed (docs/theory.md (slide lines), section 4): the thesis evaluates mu with
+Which slip speed (docs/theory/slide-lines.md, section 4): the thesis evaluates mu with
 the *free* slip s* of the step (eq. 3.79), which exceeds the slip after the step's own
 friction correction by tau S dt (1/m_g + 1/m_G), a bias that does not vanish under
 refinement at fixed CFL (``evaluation = "free"``).  The default ``"corrected"`` evaluates

@@ -25,7 +25,7 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    the next stable time step.
 
 Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
-leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory.md (hydrocode), sec. 5).
+leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/hydrocode.md, sec. 5).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Equations of state, written P = A(rho) + B(rho) e (linear in the specific energy e).
 
 Mie-Grueneisen on a linear Us = c0 + s up Hugoniot (Gamma rho = Gamma0 rho0),
-eta = 1 - rho0/rho, mu = rho/rho0 - 1 (docs/theory.md (hydrocode), sec. EOS)::
+eta = 1 - rho0/rho, mu = rho/rho0 - 1 (docs/theory/hydrocode.md, sec. EOS)::
 
     compression (eta > 0): P_H = rho0 c0^2 eta/(1 - s eta)^2,  A = P_H (1 - Gamma0 eta/2)
     tension     (eta <= 0): A = rho0 c0^2 mu                        (linear, default)

@@ -9,7 +9,7 @@ strain, per unit depth) or w = r (axisymmetric, per radian) the kernels need
 
 so that the nodal force is F_i = -(sxx bx_i + sxy by_i + s_tt h_i, sxy bx_i + syy by_i)
 and the strain rate V D = (sum bx u, sum by v, sum h u, (sum by u + bx v)/2): the
-nodal force work equals -V sigma:D exactly (docs/theory.md (hydrocode), sec. forces).
+nodal force work equals -V sigma:D exactly (docs/theory/hydrocode.md, sec. forces).
 Plane strain uses the closed form (Wilkins's formulas); axisymmetric uses 2x2
 Gauss quadrature, exact for these polynomial integrands.
 """

@@ -29,7 +29,7 @@ def plot_stability_limit(materials: Sequence, path: str | Path, pressures: Seque
         c = ScgConstants.of(m)
         # geometric spacing of T_F - theta: the limit drops steeply just below melting. The
         # curve stops 0.5 K below T_F: closer, dG/dtheta -> 0 with G itself (Ball-Winter factor)
-        # and eq. 6.72 rises again, an artefact of a strengthless state (docs/theory.md (analyses))
+        # and eq. 6.72 rises again, an artefact of a strengthless state (docs/theory/analyses.md)
         theta = m.melting_temperature - np.geomspace(m.melting_temperature - 300.0, MELT_MARGIN, samples)
         for P in pressures:
             ax.plot(theta, max_stable_strain(c, theta, P), label=f"|F_N| = {P / 1e9:g} GPa")
