@@ -161,3 +161,21 @@ def test_examples_run_with_the_other_model(tmp_path, example):
         _, prof = read(tmp_path / "o" / "profiles.csv")
         assert prof[:, 3].max() == pytest.approx(1.752e-3, rel=1e-3)  # the first-step yield (digest §9 item 17)
         assert 1215.0 < data[-1, 1] < 1220.0
+
+
+def test_viscoplastic_example_runs_from_the_command_line(tmp_path):
+    """The YLP deck (viscoplastic model), shortened to 40 ns on a 100-cell column: the command runs, the
+    history carries the molten film thickness (zero before the melt) and stays finite and below T_F."""
+    text = (EXAMPLES / "ylp_7075_toolsteel.toml").read_text()
+    for old, new in (('duration = "2 us"', 'duration = "40 ns"'),
+                     ('output_times = ["0.1 us", "0.5 us", "1 us", "2 us"]', 'output_times = ["20 ns", "40 ns"]'),
+                     ("cells = 500", "cells = 100")):
+        assert old in text
+        text = text.replace(old, new, 1)
+    deck = tmp_path / "ylp.toml"
+    deck.write_text(text)
+    assert run(["subgrid", str(deck), "--out", str(tmp_path / "o"), "--no-plots"]) in (0, None)
+    header, data = read(tmp_path / "o" / "history.csv")
+    assert header[-1] == "film_thickness_m" and data.shape[0] == 40
+    assert np.all(np.isfinite(data)) and np.all(data[:, -1] == 0.0)  # no melt yet at 40 ns
+    assert np.all(data[:, 1] < get_material("Al7075-T6").melting_temperature)
