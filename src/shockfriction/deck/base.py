@@ -23,6 +23,19 @@ class DeckModel(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
+def known_material(name: str | None) -> str | None:
+    """Field validator of a library material name (None passes): ValueError listing the library otherwise."""
+    if name is None:
+        return name
+    from shockfriction.materials.library import get_material, material_names
+
+    try:
+        get_material(name)
+    except DeckError:
+        raise ValueError(f"unknown material: expected one of the library's {', '.join(material_names())}") from None
+    return name
+
+
 def _field_path(loc: tuple) -> str:
     out = ""
     for part in loc:

@@ -18,7 +18,7 @@ from pydantic import (ConfigDict, Discriminator, Field, Tag, TypeAdapter, Valida
                       field_validator, model_validator)
 
 from shockfriction.contact.deck import SlideLineDeck
-from shockfriction.deck.base import DeckModel
+from shockfriction.deck.base import DeckModel, known_material
 from shockfriction.units import (
     Density, Dimensionless, Length, PositiveLength, PositiveTime, Pressure, SpecificEnergy, SpecificHeat, Temperature,
     Velocity,
@@ -187,18 +187,7 @@ class Body(DeckModel):
     mesh: AnyMesh
     boundary: Boundary = Field(default_factory=Boundary)
 
-    @field_validator("material")
-    @classmethod
-    def _known_material(cls, v):
-        if v is None:
-            return v
-        from shockfriction.errors import DeckError
-        from shockfriction.materials.library import get_material, material_names
-        try:
-            get_material(v)
-        except DeckError:
-            raise ValueError(f"unknown material: expected one of the library's {', '.join(material_names())}") from None
-        return v
+    _known_material = field_validator("material")(known_material)
 
     @model_validator(mode="after")
     def _consistent(self):

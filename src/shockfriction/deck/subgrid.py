@@ -44,8 +44,7 @@ from typing import Annotated, Literal, Optional
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
-from shockfriction.deck.base import DeckModel
-from shockfriction.errors import DeckError
+from shockfriction.deck.base import DeckModel, known_material
 from shockfriction.units import (Dimensionless, HeatFlux, NonNegativeTime, PositiveLength, PositiveTemperature,
                                  PositiveTime, Pressure, Velocity, Viscosity)
 
@@ -135,17 +134,7 @@ class SubgridDeck(DeckModel):
     loading: list[LoadingDeck] = Field(min_length=1)
     max_steps: int = Field(default=10_000_000, ge=1)
 
-    @field_validator("material", "other_material")
-    @classmethod
-    def _known_material(cls, v):
-        if v is None:
-            return v
-        from shockfriction.materials.library import get_material, material_names
-        try:
-            get_material(v)
-        except DeckError:
-            raise ValueError(f"a material of the library, one of {', '.join(material_names())}") from None
-        return v
+    _known_material = field_validator("material", "other_material")(known_material)
 
     @field_validator("heat_share")
     @classmethod
