@@ -252,3 +252,31 @@ def test_sigterm_stops_cleanly_with_a_checkpoint(reference, tmp_path):
     res = run(deck, out, restart=True)
     assert res.summary["completed"]
     assert_same_outputs(ref, out)
+
+
+def test_restart_with_viscoplastic_columns_is_bit_for_bit(tmp_path, no_plots):
+    """The checkpoint also carries the viscoplastic columns' state (velocity, elastic strain, enthalpy,
+    energies): an Al target with 'subgrid-viscoplastic' friction, crashed after its first checkpoint and
+    restarted, ends identical to an uninterrupted run."""
+    text = (DECK.format(end="0.3 us").replace('material = "Ti-6Al-4V"', 'material = "Al5083-H111"')
+            .replace('law = "subgrid-thermoelastoplastic", mu0 = 0.15, f = 0.15',
+                     'law = "subgrid-viscoplastic", mu0 = 0.3, f = 0.3')
+            .replace('checkpoint_interval = "0.2 us"', 'checkpoint_interval = "0.1 us"'))
+    assert 'law = "subgrid-viscoplastic"' in text and 'material = "Al5083-H111"' in text and '"0.1 us"' in text
+    deck = tmp_path / "vp.toml"
+    deck.write_text(text)
+    ref = run(deck, tmp_path / "ref")
+    assert ref.summary["completed"]
+    out = tmp_path / "out"
+    sim = prepare(deck)
+
+    def crash(s):
+        if s.state.t > 0.15e-6:
+            raise RuntimeError("simulated crash")
+
+    sim.between_cycles.append(crash)
+    with pytest.raises(RuntimeError, match="simulated crash"):
+        run_simulation(sim, out)
+    res = run(deck, out, restart=True)
+    assert res.summary["completed"] and res.state.cycle == ref.state.cycle
+    assert_same_outputs(tmp_path / "ref", out)
