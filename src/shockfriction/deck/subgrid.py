@@ -26,6 +26,10 @@ Every dimensional value is a string with its unit ("200 m/s", "10 GPa", "20 um")
     eta_vp = "50 Pa*s"                  # overstress viscosity (rate sensitivity); default: the material's or 50 Pa s
     inertia = true                      # shear inertia + impedance far end (false: quasi-static, v = 0 at z = h)
     tresca = true                       # the f Ymax/sqrt(3) G/G0 cap on the surface traction (false: column only)
+    depth = "auto"                      # continue the column below [column] thickness with geometric cells down to
+                                        # this depth ("auto": 1.2 x the shear-wave reach c_s(p_max, T0) x duration,
+                                        # so that nothing reaches the far end; "none": the column stops at thickness)
+    depth_ratio = 1.05                  # ratio of successive cells in that continuation
 
     [[loading]]                         # one table per column (several: several columns)
     name = "ball"                       # optional; names the extra output files
@@ -40,7 +44,7 @@ Every dimensional value is a string with its unit ("200 m/s", "10 GPa", "20 um")
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Optional
+from typing import Annotated, Literal, Optional, Union
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
@@ -71,9 +75,13 @@ class ViscoplasticDeck(DeckModel):
     eta_vp: Optional[Annotated[Viscosity, Field(ge=0.0)]] = None
     inertia: bool = True
     tresca: bool = True
+    depth: Union[Literal["auto", "none"], PositiveLength] = Field(
+        default="auto", description="depth of the graded continuation of the column ('auto', 'none' or a length)")
+    depth_ratio: float = Field(default=1.05, gt=1.0, le=1.5, description="ratio of successive continuation cells")
 
     def options(self) -> dict:
-        return {"eta_vp": self.eta_vp, "inertia": self.inertia, "tresca": self.tresca}
+        return {"eta_vp": self.eta_vp, "inertia": self.inertia, "tresca": self.tresca, "depth": self.depth,
+                "depth_ratio": self.depth_ratio}
 
 
 class LoadingDeck(DeckModel):

@@ -190,6 +190,24 @@ def make_grid(thickness: float, n_cells: int, grading: float = 1.0) -> np.ndarra
     return z
 
 
+def extend_grid(z: np.ndarray, depth: float, ratio: float = 1.05) -> np.ndarray:
+    """Append geometric cells below z_M out to ``depth``: dz_{k+1} = r dz_k from the last cell (the last one
+    absorbs the remainder, so z ends exactly at ``depth``).  Nothing is added when depth <= z_M."""
+    if not ratio > 1.0:
+        raise ValueError(f"extension ratio must be > 1, got {ratio!r}")
+    if not depth > z[-1]:
+        return z
+    out = list(z)
+    dz = z[-1] - z[-2]
+    while depth - out[-1] > 1e-12 * depth:
+        dz *= ratio
+        nxt = out[-1] + dz
+        if depth - nxt < 0.5 * dz * ratio:
+            nxt = depth
+        out.append(nxt)
+    return np.asarray(out)
+
+
 def control_weights(z: np.ndarray) -> np.ndarray:
     """Control-volume widths w_i (trapezoid weights): sum_i w_i g_i is the trapezoid rule of g."""
     dz = np.diff(z)

@@ -111,7 +111,7 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
         sg = SubgridInterface(n, mat, share, thickness=deck.column.thickness, n_cells=deck.column.cells,
                               grading=deck.column.grading, model=deck.model, mu0=fr.mu0, f=fr.f,
                               taylor_quinney=fr.taylor_quinney, T0=deck.T0,
-                              viscoplastic=deck.viscoplastic.options() if deck.viscoplastic else None)
+                              viscoplastic=_viscoplastic_options(deck, mat, sigma))
         columns = sg.columns
         z = sg.z
     nsteps = ends.size
@@ -185,3 +185,19 @@ def _write_profiles(files, res: RunResult, t: float, z, theta, eps) -> None:
     for k, fh in enumerate(files):
         fh.write("".join(f"{t:.9e},{zi:.9e},{th:.9e},{e:.9e}\n" for zi, th, e in zip(z, theta[k], eps[k])))
         fh.flush()
+
+
+def _viscoplastic_options(deck, mat, sigma: np.ndarray) -> dict | None:
+    """The [viscoplastic] options with ``depth = "auto"`` resolved to 1.2 c_s(p_max, T0) duration (the shear-wave
+    reach at the highest normal stress of the loading: nothing reaches the far end) and "none" to no continuation."""
+    if deck.model != "viscoplastic":
+        return None
+    from shockfriction.deck.subgrid import ViscoplasticDeck
+    from shockfriction.materials.strength import scg_shear_ratio
+    opts = (deck.viscoplastic or ViscoplasticDeck()).options()
+    if opts["depth"] == "auto":
+        r = scg_shear_ratio(float(np.max(sigma)), deck.T0, mat.scg_g, mat.scg_h, mat.scg_xi, mat.melting_temperature)
+        opts["depth"] = 1.2 * math.sqrt(mat.G0 * max(r, 1.0) / mat.rho0) * deck.duration
+    elif opts["depth"] == "none":
+        opts["depth"] = None
+    return opts

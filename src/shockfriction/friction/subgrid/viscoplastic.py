@@ -560,6 +560,10 @@ class ViscoplasticColumns:
     ``inertia`` (False: quasi-static, v = 0 at z = h; True: impedance rho c_s at z = h);
     ``far_end = "held"`` holds v = 0 at z = h also with inertia (a column between a driven surface and a fixed
     base: the eigenmodes of the linear analysis, used by the localisation test);
+    ``depth`` (m, optional): the column is continued below ``thickness`` by geometric cells (ratio
+    ``depth_ratio``) down to this depth, so that the body's own plastic flow is inside the column: with inertia and
+    depth >= c_s t_end nothing reaches the far end and the answer no longer depends on the column (the issue-10
+    well-posedness fix; ``thickness``/``n_cells`` then set the uniformly resolved interface layer);
     ``far_temperature`` (None: insulated far end).  Melt data from the material (``latent_heat``,
     ``liquid_viscosity`` at T_F, ``liquid_viscosity_activation``) or the keyword arguments.
 
@@ -570,13 +574,14 @@ class ViscoplasticColumns:
     """
 
     def __init__(self, n_columns: int, material, *, beta_T: float, thickness: float = 20e-6, n_cells: int = 500,
-                 grading: float = 1.0, f: float | None = None, taylor_quinney: float = 0.9,
+                 grading: float = 1.0, depth: float | None = None, depth_ratio: float = 1.05,
+                 f: float | None = None, taylor_quinney: float = 0.9,
                  eta_vp: float | None = None, inertia: bool = True, T0: float = 300.0,
                  far_temperature: float | None = None, latent_heat: float | None = None,
                  liquid_viscosity: float | None = None, liquid_activation: float | None = None,
                  far_end: str = "impedance", mech_tol: float = 1e-13, heat_tol: float = 1e-11,
                  picard_tol: float = 1e-6, max_picard: int = 30):
-        from shockfriction.friction.subgrid.column import control_weights, make_grid
+        from shockfriction.friction.subgrid.column import control_weights, extend_grid, make_grid
         from shockfriction.materials.library import get_material
         m = get_material(material) if isinstance(material, str) else material
         self.material = m
@@ -586,6 +591,8 @@ class ViscoplasticColumns:
             raise ValueError(f"heat share must lie in [0, 1], got {beta_T!r}")
         T_F = m.melting_temperature
         self.z = make_grid(thickness, int(n_cells), grading)
+        if depth is not None:
+            self.z = extend_grid(self.z, float(depth), float(depth_ratio))
         self.dz = np.diff(self.z)
         self.weights = control_weights(self.z)
 
