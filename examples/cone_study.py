@@ -41,7 +41,7 @@ from shockfriction.friction.subgrid.interface import MELT_MARGIN
 
 # the sub-grid models of the study, in one place (the first is the reference, run over the full mu0 x f grid)
 MODELS = ["thermoelastic", "thermoelastoplastic"]
-TAGS = {"thermoelastic": "te", "thermoelastoplastic": "tep"}
+TAGS = {"thermoelastic": "te", "thermoelastoplastic": "tep", "viscoplastic": "vp"}
 MU0 = (0.02, 0.05, 0.2, 0.3)
 F = (0.3, 0.5, 0.7, 0.9)
 COMPARE_POINTS = [(0.3, 0.7)]          # (mu0, f) where every model is run

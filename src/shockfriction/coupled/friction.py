@@ -49,6 +49,10 @@ ENERGY_KEYS = ("friction_work_columns", "heat_columns", "heat_other", "cold_work
                "melt_energy")
 # which term of tau = min(mu0 F_N, tau_stick, sub-grid branch) governs a friction node-step (in contact, free slip)
 BRANCHES = ("coulomb_cap", "sticking_cap", "subgrid")
+# the viscoplastic column under a hydro node: its far end moves with the node (the hydro carries the body and
+# its shear waves), so it is held at zero relative velocity; an impedance there would add the body's elastic
+# compliance tau/(rho c_s) a second time (docs/theory/viscoplastic.md)
+COUPLED_VISCOPLASTIC = {"far_end": "held"}
 
 
 class SubgridFriction:
@@ -69,7 +73,7 @@ class SubgridFriction:
         self.modelled_body = modelled_body
         self.columns = SubgridInterface(n_nodes, material, other, thickness=thickness, n_cells=cells,
                                         grading=grading, model=model, mu0=mu0, f=f, taylor_quinney=taylor_quinney,
-                                        T0=T0)
+                                        T0=T0, viscoplastic=COUPLED_VISCOPLASTIC if model == "viscoplastic" else None)
         self.bilateral = bool(bilateral)
         n = n_nodes
         for key in ("sigma_n", "v_free", "v_prev", "m_slave", "m_guide", "cap"):

@@ -48,7 +48,7 @@ with the heat flux beta_T tau |[v]| into the column and the interface temperatur
 tangential *velocity* (m/s), not a displacement.
 
 ``model="viscoplastic"`` delegates to :class:`~shockfriction.friction.subgrid.viscoplastic.ViscoplasticColumns`
-(options ``viscoplastic={"eta_vp": Pa s, "inertia": bool, "tresca": bool, "depth": m, "depth_ratio": r}``; ``film_thickness`` in m; the
+(options ``viscoplastic={"eta_vp": Pa s, "inertia": bool, "tresca": bool, "depth": m, "depth_ratio": r, "far_end": "impedance" | "held"}``; ``film_thickness`` in m; the
 plastic heat is deposited in the same step, ``heat_plastic`` then also holds the viscous, softening and
 numerical heat; column kinetic/elastic/radiated energies are in ``self.vp.energies()``).
 
@@ -151,17 +151,18 @@ class SubgridInterface:
 
     def _init_viscoplastic(self, n, thickness, n_cells, grading, mu0, f, beta_Q, T0, opts):
         from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns
-        unknown = set(opts) - {"eta_vp", "inertia", "tresca", "depth", "depth_ratio"}
+        unknown = set(opts) - {"eta_vp", "inertia", "tresca", "depth", "depth_ratio", "far_end"}
         if unknown:
             raise ValueError(f"unknown viscoplastic options {sorted(unknown)}: expected eta_vp, inertia, tresca, "
-                             "depth, depth_ratio")
+                             "depth, depth_ratio, far_end")
         self.model = "viscoplastic"
         self.mu0, self.f, self.beta_Q = float(mu0), float(f), float(beta_Q)
         self.vp = ViscoplasticColumns(n, self.material, beta_T=self.beta_T, thickness=thickness, n_cells=n_cells,
                                       grading=grading, f=self.f if opts.get("tresca", True) else None,
                                       taylor_quinney=beta_Q, eta_vp=opts.get("eta_vp"),
                                       inertia=bool(opts.get("inertia", True)), T0=T0, depth=opts.get("depth"),
-                                      depth_ratio=opts.get("depth_ratio", 1.05))
+                                      depth_ratio=opts.get("depth_ratio", 1.05),
+                                      far_end=opts.get("far_end", "impedance"))
         self.columns = self.vp
         for name in NODE_DIAGNOSTICS:
             setattr(self, name, np.zeros(n))
