@@ -93,16 +93,16 @@ def use_threads(threads: int) -> None:
 class ThreadGovernor:
     """Keep the parallel kernels on whichever of ``threads`` or 1 thread runs faster now.
 
-    Called between cycles (``Simulation.between_cycles``).  At the start of every ``period``
-    cycles it runs ``probe`` cycles on ``threads`` threads and ``probe`` cycles on 1, compares the
-    median wall time per cycle, and uses the faster count until the next probe.  The parallel
-    kernels give the same sums on any number of threads, so only the speed changes.  ``chosen``
-    counts the periods won by each count."""
+    Called between cycles (``Simulation.between_cycles``).  The first ``2 probe`` cycles of every
+    ``period`` alternate between ``threads`` threads and 1 (so that a change of the machine's load
+    hits both alike); the count with the smaller median wall time per cycle is kept until the
+    next probe.  The parallel kernels give the same sums on any number of threads, so only the
+    speed changes.  ``chosen`` counts the periods won by each count."""
 
     def __init__(self, threads: int, period: int = 100, probe: int = 3):
         self.threads = int(threads)
-        self.period = max(int(period), 2 * int(probe) + 1)
-        self.probe = int(probe)
+        self.probe = max(int(probe), 1)
+        self.period = max(int(period), 2 * self.probe + 1)
         self.current = self.threads
         self.chosen = {self.threads: 0, 1: 0}
         self._calls = 0
@@ -120,13 +120,12 @@ class ThreadGovernor:
         now = time.perf_counter()
         pos = self._calls % self.period
         self._calls += 1
-        if self._last is not None and 0 < pos <= 2 * self.probe:
+        if self._last is not None and 0 < pos <= 2 * self.probe:   # the cycle just done ran on self.current
             self._samples.setdefault(self.current, []).append(now - self._last)
         if pos == 0:
             self._samples = {}
-            self._set(self.threads)
-        elif pos == self.probe:
-            self._set(1)
+        if pos < 2 * self.probe:
+            self._set(self.threads if pos % 2 == 0 else 1)
         elif pos == 2 * self.probe:
             many = statistics.median(self._samples.get(self.threads, [math.inf]))
             one = statistics.median(self._samples.get(1, [math.inf]))
