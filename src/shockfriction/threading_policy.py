@@ -9,17 +9,18 @@ parallel (prange) kernels on n threads, 0 = automatic.  This module decides how 
   (``OMP_WAIT_POLICY=PASSIVE``, and ``KMP_BLOCKTIME=0`` for Intel's OpenMP) is set in the
   environment when this module is imported, before numba starts its threading layer (at the
   first parallel kernel call); a value the user set is kept.
-* **Count.** At most the cores this process may run on (its CPU affinity) and numba's
-  ``NUMBA_NUM_THREADS``.
+* **Count.** n is capped by numba's ``NUMBA_NUM_THREADS``; 0 takes the cores this process may
+  run on (its CPU affinity), capped alike.
 * **Load.** A busy core still slows a parallel region to its slowest thread.  With n > 1
   threads a :class:`ThreadGovernor` (run between cycles) times a few cycles on n threads and
-  a few on 1 every :attr:`ThreadGovernor.period` cycles, and keeps the faster count until the
+  a few on 1 every ``period`` (100) cycles, and keeps the faster count until the
   next probe: when other jobs take the cores, the run falls back to one thread instead of
   collapsing, and takes the threads back when they free up.
 * **Size.** With ``threads = 0`` a mesh below :data:`MIN_PARALLEL_CELLS` cells runs the serial
-  kernels: the fixed cost of a parallel region (waking the workers, ~10-50 us per kernel, three
-  to four kernels per cycle) exceeds what a second thread saves there.  An explicit count n > 1
-  is obeyed whatever the size (the parallel kernels' tests run on small meshes).
+  kernels: the fixed cost of the parallel regions (waking the workers, four or five regions per
+  cycle) exceeds what a second thread saves there (2 threads ran at 0.32 of 1 at 400 cells).
+  An explicit count n > 1 is obeyed whatever the size (the parallel kernels' tests run on
+  small meshes).
 
 The parallel kernels give the same sums whatever the thread count, so the policy changes only
 the speed, never the results.
