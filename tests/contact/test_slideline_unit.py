@@ -83,12 +83,8 @@ def test_hat_weights_give_consistent_guide_forces(n_guide, n_slave, periodic, ax
     sign = guide_normal_sign(x, y, guide, 0.5, -1.0)
     line = SlideLine("l", slave, guide, np.arange(n_slave - 1), np.arange(n_guide - 1), sign,
                      periodic=periodic, axisymmetric=axisymmetric, radius_axis=0, x0=x, y0=y)
-    gx, gy = x[guide], y[guide]
-    xs, ys, _ = line._wrapped_slave_coordinates(x, y, gx, gy)
-    from shockfriction.contact.pairing import pair_slave_nodes, slave_nodal_areas
-    pair_slave_nodes(xs, ys, np.arange(xs.size), gx, gy, sign, line.max_gap, line.max_penetration, line.seg,
-                     line.coef, line.nx, line.ny, line.tx, line.ty, line.gap, line.active)
-    line._projection_weights(x, y, xs, ys, gx, gy)
+    from shockfriction.contact.pairing import slave_nodal_areas
+    line.geometry(x, y)
     np.testing.assert_allclose(line.gw.sum(axis=1), 1.0, rtol=1e-13)
     area = line.nodal_areas(x, y)
     force = np.zeros(x.size)

@@ -59,7 +59,8 @@ class SlideLineInterface:
         state.energy.contact_work -= float(line.work_n.sum())     # normal impulses' work on the bodies
         if self.heat:
             state.energy.interface_heat += work
-        line.maybe_record(t + dt_pos, state.x + dt_pos * state.vx, state.y + dt_pos * state.vy)
+        if line.record_due(t + dt_pos):    # the new positions only when a record is taken
+            line.maybe_record(t + dt_pos, state.x + dt_pos * state.vx, state.y + dt_pos * state.vy)
 
     def finish(self, state) -> None:
         """Close the last (partial) record window."""

@@ -349,3 +349,34 @@ def deposit_friction_heat(work, active, seg, slave_share, slave_cell_before, sla
             energy[ca] += (1.0 - wb) * q_slave / cell_mass[ca]
         cg = guide_cell[seg[j]]
         energy[cg] += q_guide / cell_mass[cg]
+
+
+@njit(cache=True)
+def side_yield_stress(cell_yield, cell_before, cell_after, weight_before, seg, guide_cells, y_slave, y_guide):
+    """Yield stresses of the two sides at each slave node (Tresca laws), in place.
+
+    Slave side: the two adjacent slave cells weighted by ``weight_before`` and 1 - weight_before
+    (a missing cell, index < 0, gives its share to the other); guide side: the cell next to the
+    paired segment ``seg`` (0 when unpaired)."""
+    for j in range(seg.size):
+        b = cell_before[j]
+        a = cell_after[j]
+        yb = cell_yield[b] if b >= 0 else 0.0
+        ya = cell_yield[a] if a >= 0 else 0.0
+        wb = weight_before[j] if b >= 0 else 0.0
+        if a < 0:
+            wb = 1.0
+        y_slave[j] = wb * yb + (1.0 - wb) * ya
+        y_guide[j] = cell_yield[guide_cells[seg[j]]] if seg[j] >= 0 else 0.0
+
+
+@njit(cache=True)
+def accumulate_step(work_t, slip, lam_n, lam_t, dt, cum_work, cum_slip, win_lam_n, win_lam_t, win_slip):
+    """Running sums of a slide line after a step: friction work, slip displacement slip dt and the
+    record window's impulses and slip (in place)."""
+    for j in range(work_t.size):
+        cum_work[j] += work_t[j]
+        cum_slip[j] += slip[j] * dt
+        win_lam_n[j] += lam_n[j]
+        win_lam_t[j] += lam_t[j]
+        win_slip[j] += slip[j] * dt

@@ -14,11 +14,14 @@ and -max_penetration <= g <= max_gap.  A slave node in the wedge outside a *conv
 guide corner (beyond the end of the segment before the corner and before the start of
 the one after it) is paired with the corner node itself: coef = 1 on the segment before,
 normal n = (X_g - X_corner)/|X_g - X_corner| and g = |X_g - X_corner|.  Among all
-candidates the one with the smallest |g| wins; a node with no candidate (past a free end
-of the guide, or far from it) is inactive for this cycle.  The search is redone every
-cycle over all segments, so a node that slides past a segment end is re-associated with
-the next segment; with the few hundred interface nodes of the thesis this costs
-O(N_slave N_guide) flops per cycle, small next to the hydro step.
+candidates the one with the smallest |g| wins (ties: the lowest segment); a node with no
+candidate (past a free end of the guide, or far from it) is inactive for this cycle.  The
+search is redone every cycle, so a node that slides past a segment end is re-associated with
+the next segment.  It starts from the node's segment of the previous cycle
+(:func:`pair_slave_nodes_local`): the segments next to it give a bound on |g|, and only the
+runs of segments whose bounding boxes lie within that bound are searched, which returns the
+pairs of the all-segment search (:func:`pair_slave_nodes`, kept as the reference) at a cost
+O(N_slave sqrt(N_guide)) instead of O(N_slave N_guide) (docs/theory/slideline-search.md).
 """
 
 from __future__ import annotations
@@ -31,14 +34,75 @@ from numba import njit
 COEF_TOL = 1e-9
 
 
+@njit(cache=True, inline="always")
+def _segment_test(xs, ys, gx, gy, k, normal_sign, max_gap, max_penetration):
+    """Segment k as a candidate for the point (xs, ys): (ok, clipped coef, nx, ny, tx, ty, g)."""
+    x0 = gx[k]
+    y0 = gy[k]
+    dx = gx[k + 1] - x0
+    dy = gy[k + 1] - y0
+    l2 = dx * dx + dy * dy
+    if l2 <= 0.0:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    c = ((xs - x0) * dx + (ys - y0) * dy) / l2
+    if c < -COEF_TOL or c > 1.0 + COEF_TOL:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    inv_l = 1.0 / math.sqrt(l2)
+    t_x = dx * inv_l
+    t_y = dy * inv_l
+    n_x = normal_sign * t_y
+    n_y = -normal_sign * t_x
+    g = (xs - x0) * n_x + (ys - y0) * n_y
+    if g > max_gap or g < -max_penetration:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    return True, min(max(c, 0.0), 1.0), n_x, n_y, t_x, t_y, g
+
+
+@njit(cache=True, inline="always")
+def _corner_test(xs, ys, gx, gy, k, normal_sign, max_gap):
+    """Convex corner at guide point k (1 <= k <= Ng - 2) as a candidate: (ok, d, nx, ny, tx, ty).
+
+    The point must lie beyond the end of segment k-1 and before the start of segment k, on the
+    outer side of segment k-1, within ``max_gap`` of the corner."""
+    xc = gx[k]
+    yc = gy[k]
+    ax = xc - gx[k - 1]
+    ay = yc - gy[k - 1]
+    bx = gx[k + 1] - xc
+    by = gy[k + 1] - yc
+    rx = xs - xc
+    ry = ys - yc
+    if rx * ax + ry * ay <= 0.0 or rx * bx + ry * by >= 0.0:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0
+    # convex when the guide turns away from its outward normal: n_prev . b < 0
+    la = math.sqrt(ax * ax + ay * ay)
+    npx = normal_sign * ay / la
+    npy = -normal_sign * ax / la
+    if npx * bx + npy * by >= 0.0:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0
+    d = math.sqrt(rx * rx + ry * ry)
+    if d > max_gap:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0
+    if rx * npx + ry * npy <= 0.0:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0
+    if d > 0.0:
+        bnx = rx / d
+        bny = ry / d
+    else:
+        bnx = npx
+        bny = npy
+    return True, d, bnx, bny, -normal_sign * bny, normal_sign * bnx
+
+
 @njit(cache=True)
 def pair_slave_nodes(x, y, slave, gx, gy, normal_sign, max_gap, max_penetration,
                      seg, coef, nx, ny, tx, ty, gap, active):
     """Associate every slave node with its guide segment (or convex corner); fill the output arrays.
 
-    ``x, y`` are the nodal coordinates, ``slave`` the slave node indices and ``gx, gy`` the
-    coordinates of the guide polyline's points (``x[guide], y[guide]``, or with periodic
-    ghost points added at both ends, see :mod:`shockfriction.contact.slideline`).
+    The global search (every segment and corner for every node), the reference of
+    :func:`pair_slave_nodes_local`.  ``x, y`` are the nodal coordinates, ``slave`` the slave
+    node indices and ``gx, gy`` the coordinates of the guide polyline's points
+    (``x[guide], y[guide]``).
 
     Outputs per slave node j: ``seg[j]`` (segment index, -1 if inactive), ``coef[j]`` in [0, 1],
     contact normal ``(nx, ny)`` (out of the guide) and tangent ``(tx, ty)`` (along the guide order),
@@ -57,28 +121,11 @@ def pair_slave_nodes(x, y, slave, gx, gy, normal_sign, max_gap, max_penetration,
         bty = 0.0
         bg = 0.0
         for k in range(ng - 1):
-            x0 = gx[k]
-            y0 = gy[k]
-            dx = gx[k + 1] - x0
-            dy = gy[k + 1] - y0
-            l2 = dx * dx + dy * dy
-            if l2 <= 0.0:
-                continue
-            c = ((xs - x0) * dx + (ys - y0) * dy) / l2
-            if c < -COEF_TOL or c > 1.0 + COEF_TOL:
-                continue
-            inv_l = 1.0 / math.sqrt(l2)
-            t_x = dx * inv_l
-            t_y = dy * inv_l
-            n_x = normal_sign * t_y
-            n_y = -normal_sign * t_x
-            g = (xs - x0) * n_x + (ys - y0) * n_y
-            if g > max_gap or g < -max_penetration:
-                continue
-            if abs(g) < best_abs:
+            ok, c, n_x, n_y, t_x, t_y, g = _segment_test(xs, ys, gx, gy, k, normal_sign, max_gap, max_penetration)
+            if ok and abs(g) < best_abs:
                 best_abs = abs(g)
                 best = k
-                bc = min(max(c, 0.0), 1.0)
+                bc = c
                 bnx = n_x
                 bny = n_y
                 btx = t_x
@@ -86,39 +133,16 @@ def pair_slave_nodes(x, y, slave, gx, gy, normal_sign, max_gap, max_penetration,
                 bg = g
         # convex corners: slave node beyond the end of segment k-1 and before the start of segment k
         for k in range(1, ng - 1):
-            xc = gx[k]
-            yc = gy[k]
-            ax = xc - gx[k - 1]
-            ay = yc - gy[k - 1]
-            bx = gx[k + 1] - xc
-            by = gy[k + 1] - yc
-            rx = xs - xc
-            ry = ys - yc
-            if rx * ax + ry * ay <= 0.0 or rx * bx + ry * by >= 0.0:
-                continue
-            # convex when the guide turns away from its outward normal: n_prev . b < 0
-            la = math.sqrt(ax * ax + ay * ay)
-            npx = normal_sign * ay / la
-            npy = -normal_sign * ax / la
-            if npx * bx + npy * by >= 0.0:
-                continue
-            d = math.sqrt(rx * rx + ry * ry)
-            if d > max_gap or d >= best_abs:
-                continue
-            if rx * npx + ry * npy <= 0.0:
-                continue
-            best_abs = d
-            best = k - 1
-            bc = 1.0
-            if d > 0.0:
-                bnx = rx / d
-                bny = ry / d
-            else:
-                bnx = npx
-                bny = npy
-            btx = -normal_sign * bny
-            bty = normal_sign * bnx
-            bg = d
+            ok, d, n_x, n_y, t_x, t_y = _corner_test(xs, ys, gx, gy, k, normal_sign, max_gap)
+            if ok and d < best_abs:
+                best_abs = d
+                best = k - 1
+                bc = 1.0
+                bnx = n_x
+                bny = n_y
+                btx = t_x
+                bty = t_y
+                bg = d
         seg[j] = best
         active[j] = best >= 0
         coef[j] = bc
@@ -127,6 +151,154 @@ def pair_slave_nodes(x, y, slave, gx, gy, normal_sign, max_gap, max_penetration,
         tx[j] = btx
         ty[j] = bty
         gap[j] = bg if best >= 0 else 0.0
+
+
+WALK = 2    # segments tested on each side of the seed before the chunk boxes are searched
+
+
+@njit(cache=True)
+def guide_chunk_boxes(gx, gy, chunk, box):
+    """Bounding boxes of runs of ``chunk`` guide segments; returns the search pad (m).
+
+    ``box[c] = (xmin, xmax, ymin, ymax)`` of the guide points ``c chunk .. (c + 1) chunk``
+    (segments ``c chunk .. (c + 1) chunk - 1`` and the corners at their first points).  The pad
+    covers the pairing's coef tolerance (a candidate projects up to COEF_TOL |segment| past its
+    ends) and the round-off of the distances, with a wide margin: a box farther than
+    ``bound + pad`` from a point holds no segment or corner within ``bound`` of it.
+    """
+    nseg = gx.size - 1
+    lmax = 0.0
+    scale = 0.0
+    for k in range(gx.size):
+        scale = max(scale, abs(gx[k]), abs(gy[k]))
+        if k < nseg:
+            lmax = max(lmax, math.sqrt((gx[k + 1] - gx[k]) ** 2 + (gy[k + 1] - gy[k]) ** 2))
+    for c in range(box.shape[0]):
+        a = c * chunk
+        b = min((c + 1) * chunk, nseg)
+        box[c, 0] = gx[a]
+        box[c, 1] = gx[a]
+        box[c, 2] = gy[a]
+        box[c, 3] = gy[a]
+        for k in range(a + 1, b + 1):
+            box[c, 0] = min(box[c, 0], gx[k])
+            box[c, 1] = max(box[c, 1], gx[k])
+            box[c, 2] = min(box[c, 2], gy[k])
+            box[c, 3] = max(box[c, 3], gy[k])
+    return 1e-7 * lmax + 1e-12 * scale
+
+
+@njit(cache=True, inline="always")
+def _box_distance(px, py, xmin, xmax, ymin, ymax):
+    ex = max(xmin - px, 0.0, px - xmax)
+    ey = max(ymin - py, 0.0, py - ymax)
+    return math.sqrt(ex * ex + ey * ey)
+
+
+@njit(cache=True, inline="always")
+def _segment_far(px, py, gx, gy, k, bound):
+    """True when segment k's bounding box is farther than ``bound`` from (px, py)."""
+    return _box_distance(px, py, min(gx[k], gx[k + 1]), max(gx[k], gx[k + 1]),
+                         min(gy[k], gy[k + 1]), max(gy[k], gy[k + 1])) > bound
+
+
+@njit(cache=True)
+def pair_slave_nodes_local(x, y, slave, gx, gy, normal_sign, max_gap, max_penetration, chunk, box, pad,
+                           seg, coef, nx, ny, tx, ty, gap, active):
+    """:func:`pair_slave_nodes` searched from each node's previous segment: the same pairs.
+
+    ``seg`` holds on entry the segments of the previous cycle (the seeds; -1: none) and ``box``,
+    ``pad`` come from :func:`guide_chunk_boxes`.  Node j first tests the segments and corners
+    within :data:`WALK` of its seed; the best candidate so far bounds |g| (or max_gap /
+    max_penetration when there is none), and every chunk of segments whose box lies within
+    that bound (plus ``pad``) is then searched, segment by segment (their own boxes first).
+    A segment or corner outside the searched ones is farther than the bound, so it can neither
+    beat nor tie the winner: the result is the global search's, ties included (smallest |g|,
+    then lowest index; a corner wins over the segments only when strictly closer), on the
+    first cycle, after a separation, a jump or on a folded guide alike (those only cost more boxes).
+    """
+    nseg = gx.size - 1
+    hmax = max(max_gap, max_penetration)
+    for j in range(slave.size):
+        xs = x[slave[j]]
+        ys = y[slave[j]]
+        sbest = math.inf     # best segment: |g|, index
+        sk = -1
+        sc = 0.0
+        snx = 0.0
+        sny = 0.0
+        stx = 0.0
+        sty = 0.0
+        sg = 0.0
+        cbest = math.inf     # best convex corner: distance, point index
+        ck = -1
+        cnx = 0.0
+        cny = 0.0
+        ctx = 0.0
+        cty = 0.0
+        s0 = seg[j]
+        lo = 0
+        hi = -1
+        if 0 <= s0 < nseg:
+            lo = max(s0 - WALK, 0)
+            hi = min(s0 + WALK, nseg - 1)
+        for sweep in range(2):
+            # sweep 0: the walk around the seed; sweep 1: the other segments of the chunks within the bound
+            nch = 1 if sweep == 0 else box.shape[0]
+            for c in range(nch):
+                if sweep == 0:
+                    a = lo
+                    b = hi + 1
+                else:
+                    bound = min(min(sbest, cbest), hmax) + pad
+                    if _box_distance(xs, ys, box[c, 0], box[c, 1], box[c, 2], box[c, 3]) > bound:
+                        continue
+                    a = c * chunk
+                    b = min((c + 1) * chunk, nseg)
+                for k in range(a, b):
+                    if sweep == 1 and lo <= k <= hi:
+                        continue
+                    bound = min(min(sbest, cbest), hmax) + pad
+                    if _segment_far(xs, ys, gx, gy, k, bound):
+                        continue
+                    ok, cf, n_x, n_y, t_x, t_y, g = _segment_test(xs, ys, gx, gy, k, normal_sign, max_gap,
+                                                                  max_penetration)
+                    if ok and (abs(g) < sbest or (abs(g) == sbest and k < sk)):
+                        sbest = abs(g)
+                        sk = k
+                        sc = cf
+                        snx = n_x
+                        sny = n_y
+                        stx = t_x
+                        sty = t_y
+                        sg = g
+                    if 1 <= k <= nseg - 1:
+                        ok, d, n_x, n_y, t_x, t_y = _corner_test(xs, ys, gx, gy, k, normal_sign, max_gap)
+                        if ok and (d < cbest or (d == cbest and k < ck)):
+                            cbest = d
+                            ck = k
+                            cnx = n_x
+                            cny = n_y
+                            ctx = t_x
+                            cty = t_y
+        if ck >= 0 and cbest < sbest:
+            seg[j] = ck - 1
+            coef[j] = 1.0
+            nx[j] = cnx
+            ny[j] = cny
+            tx[j] = ctx
+            ty[j] = cty
+            gap[j] = cbest
+            active[j] = True
+        else:
+            seg[j] = sk
+            active[j] = sk >= 0
+            coef[j] = sc
+            nx[j] = snx
+            ny[j] = sny
+            tx[j] = stx
+            ty[j] = sty
+            gap[j] = sg if sk >= 0 else 0.0
 
 
 def guide_normal_sign(x: np.ndarray, y: np.ndarray, guide: np.ndarray, inside_x: float, inside_y: float) -> float:
@@ -180,22 +352,31 @@ def slave_nodal_areas(x: np.ndarray, y: np.ndarray, slave: np.ndarray, axisymmet
     return area
 
 
+@njit(cache=True, inline="always")
+def _closest_on_segment(px, py, gx, gy, k):
+    """(squared distance, u) of the point of segment k closest to (px, py); inf for a zero-length segment."""
+    dx = gx[k + 1] - gx[k]
+    dy = gy[k + 1] - gy[k]
+    l2 = dx * dx + dy * dy
+    if l2 <= 0.0:
+        return math.inf, 0.0
+    u = ((px - gx[k]) * dx + (py - gy[k]) * dy) / l2
+    u = min(max(u, 0.0), 1.0)
+    ex = gx[k] + u * dx - px
+    ey = gy[k] + u * dy - py
+    return ex * ex + ey * ey, u
+
+
 @njit(cache=True)
 def closest_guide_coordinate(px, py, gx, gy):
-    """Guide coordinate xi = k + u (segment k, u in [0, 1]) of the polyline point closest to (px, py)."""
+    """Guide coordinate xi = k + u (segment k, u in [0, 1]) of the polyline point closest to (px, py).
+
+    The global search (the first segment at the smallest distance), reference of
+    :func:`closest_guide_coordinate_local`."""
     best = math.inf
     xi = 0.0
     for k in range(gx.size - 1):
-        dx = gx[k + 1] - gx[k]
-        dy = gy[k + 1] - gy[k]
-        l2 = dx * dx + dy * dy
-        if l2 <= 0.0:
-            continue
-        u = ((px - gx[k]) * dx + (py - gy[k]) * dy) / l2
-        u = min(max(u, 0.0), 1.0)
-        ex = gx[k] + u * dx - px
-        ey = gy[k] + u * dy - py
-        d2 = ex * ex + ey * ey
+        d2, u = _closest_on_segment(px, py, gx, gy, k)
         if d2 < best:
             best = d2
             xi = k + u
@@ -203,8 +384,45 @@ def closest_guide_coordinate(px, py, gx, gy):
 
 
 @njit(cache=True)
+def closest_guide_coordinate_local(px, py, gx, gy, seed, chunk, box, pad):
+    """:func:`closest_guide_coordinate` searched from segment ``seed``: the same coordinate.
+
+    The segments within :data:`WALK` of the seed give a first distance; then only the chunks
+    (:func:`guide_chunk_boxes`) and segments whose boxes lie within it (plus ``pad``) are
+    tested.  Ties go to the lowest segment index, as in the global search."""
+    nseg = gx.size - 1
+    best = math.inf
+    bk = nseg
+    xi = 0.0
+    lo = 0
+    hi = -1
+    if 0 <= seed < nseg:
+        lo = max(seed - WALK, 0)
+        hi = min(seed + WALK, nseg - 1)
+        for k in range(lo, hi + 1):
+            d2, u = _closest_on_segment(px, py, gx, gy, k)
+            if d2 < best or (d2 == best and k < bk):
+                best = d2
+                bk = k
+                xi = k + u
+    for c in range(box.shape[0]):
+        if _box_distance(px, py, box[c, 0], box[c, 1], box[c, 2], box[c, 3]) > math.sqrt(best) + pad:
+            continue
+        for k in range(c * chunk, min((c + 1) * chunk, nseg)):
+            if lo <= k <= hi or _segment_far(px, py, gx, gy, k, math.sqrt(best) + pad):
+                continue
+            d2, u = _closest_on_segment(px, py, gx, gy, k)
+            if d2 < best or (d2 == best and k < bk):
+                best = d2
+                bk = k
+                xi = k + u
+    return xi
+
+
+@njit(cache=True)
 def slave_hat_coordinates(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active,
-                          gx, gy, periodic, xi_prev, xi_node, xi_next):
+                          gx, gy, periodic, xi_prev, xi_node, xi_next,
+                          chunk=0, box=None, pad=0.0):
     """Guide coordinates (xi = segment + u) of each slave node and of its two slave neighbours.
 
     They map the slave node's hat function N_j (1 at the node, 0 at the neighbours) onto the
@@ -212,6 +430,9 @@ def slave_hat_coordinates(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, 
     (free end of the slave side) takes the node's own coordinate.  Periodic lines: the node lies
     in the guide's span; a neighbour is shifted by whole periods into it and its coordinate
     then shifted back by as many periods of the guide coordinate (xi may leave [0, Ng - 1]).
+    With ``box`` (:func:`guide_chunk_boxes` of ``chunk`` segments, search ``pad``) the closest
+    point is searched from the node's own segment (:func:`closest_guide_coordinate_local`, the
+    same coordinates); without it over the whole guide.
     """
     period = gx.size - 1.0
     dxp = gx[-1] - gx[0]
@@ -235,7 +456,11 @@ def slave_hat_coordinates(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, 
                 shift = math.floor(((mx - gx[0]) * dxp + (my - gy[0]) * dyp) / d2)
                 mx -= shift * dxp
                 my -= shift * dyp
-            xi = closest_guide_coordinate(mx, my, gx, gy) + shift * period
+            if box is None:
+                xi = closest_guide_coordinate(mx, my, gx, gy)
+            else:
+                xi = closest_guide_coordinate_local(mx, my, gx, gy, seg[j], chunk, box, pad)
+            xi += shift * period
             if side == 0:
                 xi_prev[j] = xi
             else:
@@ -335,3 +560,137 @@ def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_
             if gnode[j, 1] == gnode[j, 0]:
                 gw[j, 0] = 1.0
                 gw[j, 1] = 0.0
+
+
+@njit(cache=True)
+def _nodal_areas(x, y, side, axisymmetric, radius_axis, periodic, area):
+    """:func:`slave_nodal_areas` of the side ``side`` into ``area`` (its nodes less the periodic image)."""
+    n = side.size
+    ns = area.size
+    first_extra = 0.0
+    for j in range(n):
+        a = 0.0
+        if j < n - 1:
+            dx = x[side[j + 1]] - x[side[j]]
+            dy = y[side[j + 1]] - y[side[j]]
+            if axisymmetric:
+                ra = x[side[j]] if radius_axis == 0 else y[side[j]]
+                rb = x[side[j + 1]] if radius_axis == 0 else y[side[j + 1]]
+                a = np.hypot(dx, dy) * (2.0 * ra + rb) / 6.0
+            else:
+                a = 0.5 * np.hypot(dx, dy)
+        b = 0.0
+        if j > 0:
+            dx = x[side[j]] - x[side[j - 1]]
+            dy = y[side[j]] - y[side[j - 1]]
+            if axisymmetric:
+                ra = x[side[j - 1]] if radius_axis == 0 else y[side[j - 1]]
+                rb = x[side[j]] if radius_axis == 0 else y[side[j]]
+                b = np.hypot(dx, dy) * (ra + 2.0 * rb) / 6.0
+            else:
+                b = 0.5 * np.hypot(dx, dy)
+        if axisymmetric:
+            v = (0.0 + a) + b if j < n - 1 else 0.0 + b
+        else:
+            v = b + a
+        if j < ns:
+            area[j] = v
+        else:
+            first_extra = v
+    if periodic:
+        area[0] += first_extra
+
+
+@njit(cache=True)
+def heat_weights_kernel(x, y, side, periodic, w):
+    """Share of each slave node's heat going to its cell before: tributary half lengths
+    before/(before + after) (0.5 for an isolated node); ``side`` the full side, ``w`` its nodes
+    less the periodic image."""
+    n = side.size
+    ns = w.size
+    for j in range(ns):
+        before = 0.0
+        after = 0.0
+        if j > 0:
+            before = 0.5 * np.hypot(x[side[j]] - x[side[j - 1]], y[side[j]] - y[side[j - 1]])
+        elif periodic:
+            before = 0.5 * math.hypot(x[side[n - 1]] - x[side[n - 2]], y[side[n - 1]] - y[side[n - 2]])
+        if j < n - 1:
+            after = 0.5 * np.hypot(x[side[j + 1]] - x[side[j]], y[side[j + 1]] - y[side[j]])
+        tot = before + after
+        w[j] = before / tot if tot > 0.0 else 0.5
+
+
+@njit(cache=True)
+def contact_geometry(x, y, slave, slave_side, guide, periodic, axisymmetric, radius_axis, normal_sign, max_gap,
+                     max_penetration, hat, chunk, box, gx, gy, xs, ys, seg, coef, nx, ny, tx, ty, gap, gap_point,
+                     active, area, xi_prev, xi_node, xi_next):
+    """One cycle's geometry of a slide line, in place; returns the columns its hat weights need.
+
+    Guide polyline ``gx, gy`` = x[guide], y[guide]; slave coordinates ``xs, ys`` (shifted by whole
+    periods into the guide's span on periodic lines); the pairing (:func:`pair_slave_nodes_local`,
+    seeded by ``seg`` of the previous cycle), the nodal surfaces ``area``
+    (:func:`slave_nodal_areas`), the point gap ``gap_point`` and, with ``hat``, the guide
+    coordinates of the slave hats (:func:`slave_hat_coordinates`).  The returned width is
+    max(2, the most guide segments a hat spans + 2).
+    """
+    ng = guide.size
+    ns = slave.size
+    for i in range(ng):
+        gx[i] = x[guide[i]]
+        gy[i] = y[guide[i]]
+    dxp = gx[ng - 1] - gx[0]
+    dyp = gy[ng - 1] - gy[0]
+    for j in range(ns):
+        xs[j] = x[slave[j]]
+        ys[j] = y[slave[j]]
+        if periodic:
+            k = math.floor(((xs[j] - gx[0]) * dxp + (ys[j] - gy[0]) * dyp) / (dxp * dxp + dyp * dyp))
+            xs[j] -= k * dxp
+            ys[j] -= k * dyp
+    idx = np.arange(ns)
+    pad = guide_chunk_boxes(gx, gy, chunk, box)
+    pair_slave_nodes_local(xs, ys, idx, gx, gy, normal_sign, max_gap, max_penetration, chunk, box, pad,
+                           seg, coef, nx, ny, tx, ty, gap, active)
+    _nodal_areas(x, y, slave_side, axisymmetric, radius_axis, periodic, area)
+    for j in range(ns):
+        gap_point[j] = gap[j]
+    if not hat:
+        return 2
+    # offsets to the previous and next slave node along the side (periodic: across the seam)
+    nside = slave_side.size
+    prev_dx = np.zeros(ns)
+    prev_dy = np.zeros(ns)
+    next_dx = np.zeros(ns)
+    next_dy = np.zeros(ns)
+    has_prev = np.zeros(ns, np.bool_)
+    has_next = np.zeros(ns, np.bool_)
+    for j in range(ns):
+        if j < nside - 1:
+            next_dx[j] = x[slave_side[j + 1]] - x[slave_side[j]]
+            next_dy[j] = y[slave_side[j + 1]] - y[slave_side[j]]
+            has_next[j] = True
+        if j > 0:
+            prev_dx[j] = -(x[slave_side[j]] - x[slave_side[j - 1]])
+            prev_dy[j] = -(y[slave_side[j]] - y[slave_side[j - 1]])
+            has_prev[j] = True
+        elif periodic:
+            prev_dx[j] = -(x[slave_side[nside - 1]] - x[slave_side[nside - 2]])
+            prev_dy[j] = -(y[slave_side[nside - 1]] - y[slave_side[nside - 2]])
+            has_prev[j] = True
+    slave_hat_coordinates(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active,
+                          gx, gy, periodic, xi_prev, xi_node, xi_next, chunk, box, pad)
+    width = 0.0
+    for j in range(ns):
+        if active[j]:
+            span = math.ceil(max(xi_prev[j], xi_next[j])) - math.floor(min(xi_prev[j], xi_next[j]))
+            width = max(width, span)
+    return max(2, int(width) + 2)
+
+
+@njit(cache=True)
+def projection_gap(xs, ys, xbar, ybar, nx, ny, active, gap, gap_point):
+    """gap = (X_g - Xbar).n of the weighted guide position (0 when inactive); gap_point = max(gap_point, gap)."""
+    for j in range(xs.size):
+        gap[j] = (xs[j] - xbar[j]) * nx[j] + (ys[j] - ybar[j]) * ny[j] if active[j] else 0.0
+        gap_point[j] = max(gap_point[j], gap[j])

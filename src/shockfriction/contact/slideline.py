@@ -24,10 +24,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shockfriction.contact.impulses import (deposit_friction_heat, impulse_work, normal_step,
-                                            penetration_projection, point_weights, tangential_step)
-from shockfriction.contact.pairing import (hat_weights, pair_slave_nodes, slave_hat_coordinates, slave_nodal_areas,
-                                           slave_tributary_lengths)
+from shockfriction.contact.impulses import (accumulate_step, deposit_friction_heat, impulse_work, normal_step,
+                                            penetration_projection, point_weights, side_yield_stress,
+                                            tangential_step)
+from shockfriction.contact.pairing import (contact_geometry, hat_weights, heat_weights_kernel, projection_gap,
+                                           slave_nodal_areas)
 from shockfriction.friction.laws import FRICTIONLESS
 
 
@@ -193,65 +194,41 @@ class SlideLine:
         self.sweeps_tangential = 0
         # optional friction model taking over the tangential step (sub-grid columns, shockfriction.coupled)
         self.friction_model = None
+        # the guide's segments in runs of ~sqrt(N) for the local search (pairing.guide_chunk_boxes)
+        nseg = max(self.guide.size - 1, 1)
+        self.search_chunk = max(4, int(round(math.sqrt(nseg))))
+        ng = self.guide.size
+        # per-cycle scratch (a tuple: not part of a checkpoint): gx, gy, xs, ys, chunk boxes, xbar, ybar,
+        # heat weights, slave and guide yield stresses
+        self._scratch = (np.zeros(ng), np.zeros(ng), np.zeros(ns), np.zeros(ns),
+                         np.zeros((-(-nseg // self.search_chunk), 4)), np.zeros(ns), np.zeros(ns), np.zeros(ns),
+                         np.zeros(ns), np.zeros(ns))
 
     # ------------------------------------------------------------------ geometry
-    def _guide_polyline(self, x, y):
-        return x[self.guide].copy(), y[self.guide].copy()
-
-    def _wrapped_slave_coordinates(self, x, y, gx, gy):
-        """Slave node coordinates (shifted by whole periods into the guide's span on periodic lines)."""
-        xs, ys = x[self.slave].copy(), y[self.slave].copy()
-        if self.periodic:
-            dx, dy = gx[-1] - gx[0], gy[-1] - gy[0]
-            k = np.floor(((xs - gx[0]) * dx + (ys - gy[0]) * dy) / (dx * dx + dy * dy))
-            xs -= k * dx
-            ys -= k * dy
-        return xs, ys, np.arange(self.slave.size, dtype=np.int64)
-
-    def _neighbour_offsets(self, x, y):
-        """Offsets from each slave node to its previous and next slave node along the side."""
-        side = self.slave_side
-        dx = np.diff(x[side])
-        dy = np.diff(y[side])
+    def geometry(self, x, y) -> None:
+        """This cycle's pairing, nodal surfaces, gaps and projection weights (``seg``, ``coef``, normals,
+        ``gap``, ``gap_point``, ``area``, ``gnode``, ``gw``) at the positions ``x, y``."""
+        gx, gy, xs, ys, box, xbar, ybar = self._scratch[:7]
+        hat = self.guide_share == "segment"
+        width = contact_geometry(x, y, self.slave, self.slave_side, self.guide, self.periodic, self.axisymmetric,
+                                 self.radius_axis, self.normal_sign, self.max_gap, self.max_penetration, hat,
+                                 self.search_chunk, box, gx, gy, xs, ys, self.seg, self.coef, self.nx, self.ny,
+                                 self.tx, self.ty, self.gap, self.gap_point, self.active, self.area, self.xi_prev,
+                                 self.xi_node, self.xi_next)
         ns = self.slave.size
-        next_dx, next_dy = np.zeros(ns), np.zeros(ns)
-        prev_dx, prev_dy = np.zeros(ns), np.zeros(ns)
-        has_next = np.zeros(ns, np.bool_)
-        has_prev = np.zeros(ns, np.bool_)
-        m = min(ns, dx.size)
-        next_dx[:m], next_dy[:m] = dx[:m], dy[:m]
-        has_next[:m] = True
-        prev_dx[1:], prev_dy[1:] = -dx[:ns - 1], -dy[:ns - 1]
-        has_prev[1:] = True
-        if self.periodic:
-            prev_dx[0], prev_dy[0] = -dx[-1], -dy[-1]
-            has_prev[0] = True
-        return prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next
-
-    def _projection_weights(self, x, y, xs, ys, gx, gy):
-        """Fill ``gnode, gw`` (guide nodes and weights of each pair's projection)."""
-        ns = self.slave.size
-        if self.guide_share == "point":
-            if self.gnode.shape[1] != 2:
-                self.gnode = np.zeros((ns, 2), np.int64)
-                self.gw = np.zeros((ns, 2))
+        if self.gnode.shape[1] != width:
+            self.gnode = np.zeros((ns, width), np.int64)
+            self.gw = np.zeros((ns, width))
+        if not hat:
             point_weights(self.guide_imp, self.seg, self.coef, self.active, self.gnode, self.gw)
             return
-        slave_hat_coordinates(xs, ys, *self._neighbour_offsets(x, y), self.seg, self.coef, self.active, gx, gy,
-                              self.periodic, self.xi_prev, self.xi_node, self.xi_next)
-        lo = np.minimum(self.xi_prev, self.xi_next)
-        hi = np.maximum(self.xi_prev, self.xi_next)
-        span = np.where(self.active, np.ceil(hi) - np.floor(lo), 0.0)
-        k = max(2, int(span.max()) + 2) if ns else 2
-        if self.gnode.shape[1] != k:
-            self.gnode = np.zeros((ns, k), np.int64)
-            self.gw = np.zeros((ns, k))
         gr = (gx if self.radius_axis == 0 else gy) if self.axisymmetric else np.ones_like(gx)
-        xbar, ybar = np.zeros(ns), np.zeros(ns)
         hat_weights(self.xi_prev, self.xi_node, self.xi_next, self.seg, self.coef, self.active, gx, gy, gr,
                     self.guide_imp, self.periodic, self.gnode, self.gw, xbar, ybar)
-        # the gap consistent with the averaged guide velocity (equal to the point gap on a flat guide)
-        self.gap[:] = np.where(self.active, (xs - xbar) * self.nx + (ys - ybar) * self.ny, 0.0)
+        # the gap consistent with the averaged guide velocity (equal to the point gap on a flat guide); the
+        # projection removes a penetration that both gaps see (the averaged gap of the velocity step differs
+        # from the point gap at guide kinks: pushing either alone out pumps energy)
+        projection_gap(xs, ys, xbar, ybar, self.nx, self.ny, self.active, self.gap, self.gap_point)
 
     def nodal_areas(self, x, y) -> np.ndarray:
         area = slave_nodal_areas(x, y, self.slave_side, self.axisymmetric, self.radius_axis)
@@ -259,17 +236,6 @@ class SlideLine:
             area = area[:-1].copy()
             area[0] += slave_nodal_areas(x, y, self.slave_side, self.axisymmetric, self.radius_axis)[-1]
         return area
-
-    def heat_weights(self, x, y) -> np.ndarray:
-        """Share of a slave node's heat going to its cell before (tributary half lengths)."""
-        before, after = slave_tributary_lengths(x, y, self.slave_side)
-        if self.periodic:
-            before = before[:-1].copy()
-            after = after[:-1].copy()
-            before[0] = 0.5 * math.hypot(x[self.slave_side[-1]] - x[self.slave_side[-2]],
-                                         y[self.slave_side[-1]] - y[self.slave_side[-2]])
-        tot = before + after
-        return np.where(tot > 0.0, before / np.where(tot > 0.0, tot, 1.0), 0.5)
 
     # ------------------------------------------------------------------ one cycle
     def apply(self, x, y, vx, vy, mass, dt: float, t: float, *, dt_position: float | None = None,
@@ -291,32 +257,20 @@ class SlideLine:
         dt_pos = dt if dt_position is None else float(dt_position)
         if vx_old is None or vy_old is None:
             vx_old, vy_old = vx.copy(), vy.copy()
-        gx, gy = self._guide_polyline(x, y)
-        xs, ys, slave_idx = self._wrapped_slave_coordinates(x, y, gx, gy)
-        pair_slave_nodes(xs, ys, slave_idx, gx, gy, self.normal_sign, self.max_gap, self.max_penetration,
-                         self.seg, self.coef, self.nx, self.ny, self.tx, self.ty, self.gap, self.active)
-        self.area[:] = self.nodal_areas(x, y)
-        self.gap_point[:] = self.gap     # distance to the guide polyline
-        self._projection_weights(x, y, xs, ys, gx, gy)
-        # the projection removes a penetration that both gaps see (the averaged gap of the velocity
-        # step differs from the point gap at guide kinks: pushing either alone out pumps energy)
-        np.maximum(self.gap_point, self.gap, out=self.gap_point)
+        self.geometry(x, y)
         self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.nx,
                                          self.ny, self.gap, self.active, dt_pos, self.bilateral, self.max_sweeps,
                                          self.rel_tol, self.lam_n)
+        w_heat, y_slave, y_guide = self._scratch[7:]
         if self.friction_model is not None:
             self.sweeps_tangential = self.friction_model.tangential(self, vx, vy, vx_old, vy_old, mass, dt, t)
         elif cell_yield is not None:
-            w = self.heat_weights(x, y)
-            yb = np.where(self.slave_cell_before >= 0, cell_yield[self.slave_cell_before], 0.0)
-            ya = np.where(self.slave_cell_after >= 0, cell_yield[self.slave_cell_after], 0.0)
-            wb = np.where(self.slave_cell_before >= 0, w, 0.0)
-            wb = np.where(self.slave_cell_after >= 0, wb, 1.0)
-            y_slave = wb * yb + (1.0 - wb) * ya
-            y_guide = np.where(self.seg >= 0, cell_yield[self.guide_cells[np.maximum(self.seg, 0)]], 0.0)
+            heat_weights_kernel(x, y, self.slave_side, self.periodic, w_heat)
+            side_yield_stress(cell_yield, self.slave_cell_before, self.slave_cell_after, w_heat, self.seg,
+                              self.guide_cells, y_slave, y_guide)
         else:
-            y_slave = np.full(self.slave.size, np.inf)
-            y_guide = y_slave
+            y_slave[:] = np.inf
+            y_guide[:] = np.inf
         if self.friction_model is None:
             self.sweeps_tangential = tangential_step(
                 vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.tx, self.ty, self.active, dt,
@@ -331,23 +285,25 @@ class SlideLine:
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.tx, self.ty,
                      self.active, self.lam_t, self.work_t)
         if self.heat_share_slave is not None and cell_energy is not None:
+            heat_weights_kernel(x, y, self.slave_side, self.periodic, w_heat)
             deposit_friction_heat(self.work_t, self.active, self.seg, float(self.heat_share_slave),
-                                  self.slave_cell_before, self.slave_cell_after, self.heat_weights(x, y),
+                                  self.slave_cell_before, self.slave_cell_after, w_heat,
                                   self.guide_cells, cell_mass, cell_energy)
         step_work = float(self.work_t.sum())
         self.total_friction_work += step_work
         self.total_contact_loss += float(self.work_n.sum())
-        self.cum_work += self.work_t
-        self.cum_slip += self.slip * dt_pos
-        self._win_lam_n += self.lam_n
-        self._win_lam_t += self.lam_t
-        self._win_slip += self.slip * dt_pos
+        accumulate_step(self.work_t, self.slip, self.lam_n, self.lam_t, dt_pos, self.cum_work, self.cum_slip,
+                        self._win_lam_n, self._win_lam_t, self._win_slip)
         self._win_time += dt
         return step_work
 
+    def record_due(self, t_end: float, force: bool = False) -> bool:
+        """True when :meth:`maybe_record` would close the window at ``t_end``."""
+        return self._win_time > 0.0 and (force or t_end >= self._next_record * (1 - 1e-12))
+
     def maybe_record(self, t_end: float, x_new, y_new, force: bool = False) -> bool:
         """Close the record window if ``t_end`` reached the next record time (or ``force``)."""
-        if self._win_time <= 0.0 or not (force or t_end >= self._next_record * (1 - 1e-12)):
+        if not self.record_due(t_end, force):
             return False
         rec = self.record
         denom = self.area * self._win_time

@@ -34,9 +34,9 @@ import math
 import time as _time
 from typing import Callable, Protocol
 
-import numba
 import numpy as np
 
+from shockfriction import threading_policy
 from shockfriction.errors import SimulationError
 from shockfriction.hydro import kernels as K
 from shockfriction.hydro import shear_viscosity as SV
@@ -87,7 +87,7 @@ class Simulation:
         self.shear_visc = (visc.shear != "off" and (visc.shear_linear > 0.0 or visc.shear_quadratic > 0.0))
         self.shear_visc_args = (visc.shear_linear, visc.shear_quadratic, visc.shear == "elastic")
         threads = deck.threads if threads is None else threads
-        self.threads = numba.config.NUMBA_NUM_THREADS if threads == 0 else min(threads, numba.config.NUMBA_NUM_THREADS)
+        self.threads = threading_policy.effective_threads(threads, self.state.n_cells)
         self.parallel = self.threads > 1
         s = self.state
         nn, nc = s.n_nodes, s.n_cells
@@ -111,7 +111,7 @@ class Simulation:
         self._dtcell = np.empty(nc)
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
-            numba.set_num_threads(self.threads)
+            threading_policy.use_threads(self.threads)
             self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
@@ -128,6 +128,8 @@ class Simulation:
         self.observers: list[Callable[["Simulation"], None]] = []
         # called by run() between cycles (state at t^n, nothing half-updated): output writers, checkpoints
         self.between_cycles: list[Callable[["Simulation"], None]] = []
+        if self.parallel:  # 1 or self.threads threads, whichever runs faster under the machine's load
+            self.between_cycles.append(threading_policy.ThreadGovernor(self.threads))
         self.wall_time = 0.0
         self.guards = RunGuards(self)
         for obj in interfaces or []:
