@@ -76,11 +76,10 @@ import math
 import numpy as np
 
 from shockfriction.errors import SimulationError
-from shockfriction.friction.subgrid.column import ThermalColumns, affine_update, clip_deposit
+from shockfriction.friction.subgrid.column import ThermalColumns
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
                                                            solve_thermoelastic)
-from shockfriction.friction.subgrid.thermoelastoplastic import (finish_plastic_step, row_integrals,
-                                                                 solve_thermoelastoplastic)
+from shockfriction.friction.subgrid.thermoelastoplastic import finish_plastic_step, solve_thermoelastoplastic
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
@@ -134,12 +133,13 @@ class SubgridInterface:
         n, nn = self.n_columns, self.columns.n_nodes
         self.eps_p = np.zeros((n, nn))
         self._hard = np.ones((n, nn))  # (1 + beta eps_p)^n
-        self._new = np.empty((n, nn))
-        self._pending_plastic_heat = np.zeros((n, nn))  # J/m^3, deposited next step (lagged source)
+        self._hard_blk = np.ones((n, (nn + 7) // 8))  # min_{i >= 8b} _hard[j, i]: the plastic-front bound uses it
+        # J/m^3, deposited next step (lagged source); (n_nodes, n_columns) like the temperatures it heats
+        self._pending_plastic_heat = np.zeros((nn, n))
+        self._pending_flags = np.zeros(n, dtype=np.bool_)  # column j has pending heat (a nonzero source)
         self._deps = np.zeros((n, nn))
         self._depth = np.full(n, nn, dtype=np.int64)  # plastic-front bound: _deps[j, _depth[j]:] == 0
-        self._pending_depth = np.full(n, nn, dtype=np.int64)  # _pending_plastic_heat[j, _pending_depth[j]:] == 0
-        self._deposited = np.zeros(n)
+        self._pending_depth = np.zeros(n, dtype=np.int64)  # _pending_plastic_heat[_pending_depth[j]:, j] == 0
         self._use_front = True  # skip the nodes proven elastic (False: visit all, for the tests)
         for name in NODE_DIAGNOSTICS:
             setattr(self, name, np.zeros(n))
@@ -166,7 +166,7 @@ class SubgridInterface:
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
         self.eps_p = np.zeros((n, self.vp.z.size))  # cell values on the node above (last node: last cell)
-        self._pending_plastic_heat = np.zeros((n, self.vp.z.size))  # no lagged heat: deposited in the same step
+        self._pending_plastic_heat = np.zeros((self.vp.z.size, n))  # no lagged heat: deposited in the same step
 
     def _step_viscoplastic(self, F_N, vf, vp, k, tau_cap, dt, when):
         c = self.vp
@@ -219,7 +219,7 @@ class SubgridInterface:
     @property
     def plastic_heat_pending(self) -> np.ndarray:
         """Plastic heat of the last step not yet deposited in the column (J/m^2)."""
-        return self._pending_plastic_heat @ self.columns.weights
+        return self.columns.weights @ self._pending_plastic_heat
 
     # ------------------------------------------------------------------ the step
     def step(self, sigma_n, v_free, slip_prev, m_slave, m_guide, area, dt: float, *,
@@ -258,71 +258,65 @@ class SubgridInterface:
             return self._step_viscoplastic(F_N, vf, vp, k, tau_cap, dt, when)
 
         plastic = self.model == "thermoelastoplastic"
-        deposited = None
-        if plastic:  # J/m^2 of lagged plastic heat put in this step, after the melt guard
-            self.limit_plastic_heat()
-            deposited = self._deposited
-            row_integrals(self._pending_plastic_heat, self.columns.weights, self._pending_depth, deposited)
-        theta_ad = self.columns.adiabatic(dt, deposit=self._pending_plastic_heat if plastic else None)
-        unit = self.columns.theta_unit
+        cols = self.columns
+        T_F = self.material.melting_temperature
+        # Melt guard (thermoelastoplastic): the plastic heat of step n is deposited in step n + 1 (eq. 8.46);
+        # near melting that deposit alone can carry a node past T_F, where the model has no state (strength
+        # and friction vanish, no latent heat).  By the maximum principle of the backward-Euler solve,
+        # theta_ad <= max_i (theta_i + deposit_i/(rho c)), so each node's deposit is clipped to
+        # rho c (T_F - MELT_MARGIN - theta_i) in the forward sweep; the clipped energy (what melting would
+        # absorb) is added to melt_energy.
+        if plastic:
+            pend = self._pending_plastic_heat
+            X = cols.advance(dt, pend, int(self._pending_depth.max()), 1.0 / cols.rho_c, T_F - MELT_MARGIN,
+                             self._pending_flags)
+            self.melt_energy += cols._clipped
+            deposited = cols._deposited  # J/m^2 put in this step
+        else:
+            X = cols.advance(dt)
+        unit = cols.theta_unit
         tau = self.tau
         q_in = self.flux_in
         if self.model == "thermoelastic":
-            solve_thermoelastic(np.ascontiguousarray(theta_ad[:, 0]), unit[0], F_N, np.ascontiguousarray(vf),
+            solve_thermoelastic(X[0], unit[0], F_N, np.ascontiguousarray(vf),
                                 np.ascontiguousarray(vp), k, tau_cap, self.beta_T, self.f, self.scg, self.xtol,
                                 self.max_iter, self._theta_s, tau, self._v_half, self.slip_local, q_in,
                                 self.iterations, self._status)
             self.slip_plastic[:] = 0.0
         else:
-            solve_thermoelastoplastic(theta_ad, unit, self.columns.weights, self.eps_p, self._hard, F_N,
+            solve_thermoelastoplastic(X, cols._sfx, unit, cols.weights, self.eps_p, self._hard, self._hard_blk, F_N,
                                       np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T,
                                       self.f, self.scg, dt, self.xtol, self.max_iter, self._theta_s, tau,
                                       self._v_half, self.slip_local, self.slip_plastic, q_in, self._deps,
                                       self.iterations, self._status, self._depth, self._use_front)
         self._check(when)
         self._check_finite(when, plastic)
-        new = self._new
-        T_F = self.material.melting_temperature
-        bad = affine_update(theta_ad, q_in, unit, T_F, new)
+        cols.set_flux(q_in)  # theta = theta_ad + q_in theta_unit (eq. 7.70), applied by the next sweep
+        bad = cols.melt_index(T_F)
         if bad >= 0:
-            j, i = divmod(int(bad), new.shape[1])
-            raise SimulationError(f"sub-grid step {when}: column {j} reached {new[j, i]!r} K at z = {self.z[i]:.3e} m "
-                                  f"(melting {T_F} K)")
+            j, i = divmod(int(bad), cols.n_nodes)
+            raise SimulationError(f"sub-grid step {when}: column {j} reached {X[i, j] + q_in[j] * unit[i]!r} K at "
+                                  f"z = {self.z[i]:.3e} m (melting {T_F} K)")
         heated = (q_in != 0.0)
         if plastic:
             heated |= deposited != 0.0
-        self._new, self.columns.theta = self.columns.theta, new  # swap buffers instead of copying
-        self.columns.active |= heated
-        self.theta_interface[:] = new[:, 0]
+        cols.active |= heated
+        np.add(X[0], q_in * unit[0], out=self.theta_interface)
         v_half = self._v_half.copy()
         self.slip_macro[:] = np.abs(0.5 * (v_half + vp))
         self.friction_work += tau * self.slip_macro * dt
         self.heat_interface += q_in * dt
         if plastic:
             self.heat_plastic += deposited
-            finish_plastic_step(self.eps_p, self._deps, self._hard, self.scg, self._depth, tau, self.beta_Q * SQRT3,
-                                self.columns.weights, self._pending_plastic_heat, self._pending_depth,
-                                self.plastic_work, self.lag_temperature, self.columns.rho_c)
+            finish_plastic_step(self.eps_p, self._deps, self._hard, self._hard_blk, self.scg, self._depth, tau,
+                                self.beta_Q * SQRT3,
+                                cols.weights, self._pending_plastic_heat, self._pending_depth,
+                                self.plastic_work, self.lag_temperature, cols.rho_c, self._pending_flags)
             if not np.all(np.isfinite(self.plastic_work)):
                 j = int(np.argmax(~np.isfinite(self.plastic_work)))
                 raise SimulationError(f"sub-grid step {when}: node {j}: non-finite plastic strain increment "
                                       f"(interface {self.theta_interface[j]!r} K, tau = {tau[j]!r} Pa)")
         return tau.copy(), v_half
-
-    def limit_plastic_heat(self) -> None:
-        """Melt guard (thermoelastoplastic): clip the lagged plastic heat so that no column node exceeds
-        T_F - MELT_MARGIN in this step's adiabatic solve; the energy clipped off is added to ``melt_energy``.
-
-        The plastic heat of step n is deposited in step n + 1 (eq. 8.46); near melting that deposit
-        alone can carry a node past T_F, where the model has no state (strength and friction vanish,
-        no latent heat).  By the maximum principle of the backward-Euler solve, theta_ad <= max_i
-        (theta_i + deposit_i/(rho c)), so clipping each node's deposit to rho c (T_F - margin - theta_i)
-        keeps the column below melting; the clipped energy is what melting would absorb.  Called by
-        :meth:`step` (the uncoupled driver and the coupled slide line share it).
-        """
-        c = self.columns
-        clip_deposit(self._pending_plastic_heat, c.theta, c.rho_c, self.material.melting_temperature - MELT_MARGIN,
-                     c.weights, self.melt_energy)
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
@@ -356,4 +350,4 @@ class SubgridInterface:
                 NO_CONVERGENCE: f"the interface root finder did not converge in {self.max_iter} iterations",
                 BAD_INPUT: "non-finite input"}.get(int(st[j]), f"status {int(st[j])}")
         raise SimulationError(f"sub-grid step {when}: node {j}: {what} "
-                              f"(theta_ad(0) = {self.columns.theta[j, 0]!r} K)")
+                              f"(theta_ad(0) = {self.columns.X[0, j]!r} K)")
