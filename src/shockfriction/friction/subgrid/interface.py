@@ -78,7 +78,7 @@ import numpy as np
 from shockfriction.errors import SimulationError
 from shockfriction.friction.subgrid.column import ThermalColumns
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
-                                                           solve_thermoelastic)
+                                                           solve_thermoelastic, step_inputs)
 from shockfriction.friction.subgrid.thermoelastoplastic import finish_plastic_step, solve_thermoelastoplastic
 from shockfriction.materials.library import Material, get_material, heat_share
 
@@ -92,6 +92,12 @@ MELT_MARGIN = 1.0  # K: the lagged plastic heat never takes a column node above 
 
 def _material(m) -> Material:
     return get_material(m) if isinstance(m, str) else m
+
+
+def _per_node(x, n: int) -> np.ndarray:
+    """``x`` as a float array of shape (n,) (scalars broadcast, no copy)."""
+    a = np.asarray(x, float)
+    return a if a.shape == (n,) else np.broadcast_to(a, (n,))
 
 
 class SubgridInterface:
@@ -148,6 +154,7 @@ class SubgridInterface:
         self._status = np.zeros(n, dtype=np.int64)
         self._theta_s = np.zeros(n)
         self._v_half = np.zeros(n)
+        self._k, self._tau_cap, self._F_N = np.zeros(n), np.zeros(n), np.zeros(n)
 
     def _init_viscoplastic(self, n, thickness, n_cells, grading, mu0, f, beta_Q, T0, opts):
         from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns
@@ -165,6 +172,7 @@ class SubgridInterface:
             setattr(self, name, np.zeros(n))
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
+        self._k, self._tau_cap, self._F_N = np.zeros(n), np.zeros(n), np.zeros(n)
         self.eps_p = np.zeros((n, self.vp.z.size))  # cell values on the node above (last node: last cell)
         self._pending_plastic_heat = np.zeros((self.vp.z.size, n))  # no lagged heat: deposited in the same step
 
@@ -226,34 +234,18 @@ class SubgridInterface:
              cycle: int | None = None, time: float | None = None):
         """Advance every column by ``dt``; return ``(tau, slip_corrected)`` (see module docstring)."""
         n = self.n_columns
-        shape = (n,)
-        sig = np.broadcast_to(np.asarray(sigma_n, float), shape)
-        vf = np.broadcast_to(np.asarray(v_free, float), shape)
-        vp = np.broadcast_to(np.asarray(slip_prev, float), shape)
-        ms = np.broadcast_to(np.asarray(m_slave, float), shape)
-        mg = np.broadcast_to(np.asarray(m_guide, float), shape)
-        S = np.broadcast_to(np.asarray(area, float), shape)
+        sig, vf, vp, ms, mg, S = (_per_node(x, n) for x in (sigma_n, v_free, slip_prev, m_slave, m_guide, area))
         dt = float(dt)
-        when = self._when(cycle, time)
         if not (dt > 0.0 and math.isfinite(dt)):
-            raise SimulationError(f"sub-grid step {when}: time step {dt!r} is not positive and finite")
-        bad = ~(np.isfinite(sig) & np.isfinite(vf) & np.isfinite(vp) & (ms > 0) & (mg > 0) & (S >= 0)
-                & np.isfinite(S) & ((S > 0) | (sig <= 0)))  # a node out of contact may have no area
-        if bad.any():
-            j = int(np.argmax(bad))
-            raise SimulationError(f"sub-grid step {when}: bad input at node {j}: sigma_n={float(sig[j]):.6g} Pa, "
+            raise SimulationError(f"sub-grid step {self._when(cycle, time)}: time step {dt!r} is not positive and finite")
+        k, tau_cap, F_N = self._k, self._tau_cap, self._F_N
+        j = step_inputs(sig, vf, vp, ms, mg, S, dt, self.mu0, k, self.tau_stick, tau_cap, self.tau_coulomb, F_N)
+        if j >= 0:  # a node out of contact may have no area
+            raise SimulationError(f"sub-grid step {self._when(cycle, time)}: bad input at node {j}: "
+                                  f"sigma_n={float(sig[j]):.6g} Pa, "
                                   f"v_free={float(vf[j]):.6g} m/s, slip_prev={float(vp[j]):.6g} m/s, "
                                   f"m_slave={float(ms[j]):.6g}, m_guide={float(mg[j]):.6g}, area={float(S[j]):.6g}")
-        inv_sum = 1.0 / ms + 1.0 / mg
-        k = S * dt * inv_sum  # slip change per unit friction stress
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tau_stick = np.where(inv_sum > 0.0, np.abs(vf) / np.where(k > 0.0, k, 1.0), np.inf)
-        tau_stick[vf == 0.0] = 0.0  # no free slip: no friction needed, none generated
-        in_contact = sig > 0.0
-        tau_cap = np.where(in_contact, np.minimum(self.mu0 * np.where(in_contact, sig, 0.0), tau_stick), 0.0)
-        self.tau_coulomb[:] = self.mu0 * np.where(in_contact, sig, 0.0)  # the caps, kept for branch tallies
-        self.tau_stick[:] = tau_stick
-        F_N = np.where(in_contact, sig, 0.0)
+        when = self._when(cycle, time)
         if self.model == "viscoplastic":
             return self._step_viscoplastic(F_N, vf, vp, k, tau_cap, dt, when)
 

@@ -166,16 +166,27 @@ def block_suffix_min(values, blk, top):
 
 
 @njit(cache=True)
-def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, p):
+def _front_ok(m, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
+    """Every node i >= m elastic: G(C_m)/G0 H_m > s (see :func:`plastic_depth`)."""
+    c = suffix_max(ad, ad_blk, m) + q_hi * unit_suffix_max[m]
+    if not c < T_F:
+        return False
+    r = (1.0 + g * F_N - h * (c - 300.0)) * math.exp(-xi * c / (T_F - c))
+    return r > 0.0 and r * suffix_min(hard, hard_blk, m) > s
+
+
+@njit(cache=True)
+def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, p, guess=-1):
     """Smallest m such that every node i >= m stays elastic for any tau <= ``tau_max`` and q in [0, q_hi].
 
     For i >= m: theta_i <= C_m = max_{k >= m} ad_k + q_hi unit_suffix_max[m] and hard_i >= H_m =
     min_{k >= m} hard_k, and G/G0 (1 + g F_N - h (T - 300)) exp(-xi T/(T_F - T)) decreases with T
     (h, xi >= 0), so G_i/G0 hard_i >= G(C_m)/G0 H_m.  If that exceeds sqrt(3) tau_max/Y0 (with a
     margin) no node beyond m flows (eq. 8.42 gives d_eps = 0).  The bound is monotone in m (C_m falls,
-    H_m rises), so m is found by bisection.  ``ad`` is the column's theta_ad, ``ad_blk[b]`` its suffix
-    maximum from node 8b, ``hard`` its (1 + beta eps)^n and ``hard_blk[b]`` their suffix minimum from
-    node 8b.  Returns n_nodes when no bound applies.
+    H_m rises), so m is found by bisection, started by galloping from ``guess`` (the last step's bound)
+    when one is given.  ``ad`` is the column's theta_ad, ``ad_blk[b]`` its suffix maximum from node 8b,
+    ``hard`` its (1 + beta eps)^n and ``hard_blk[b]`` their suffix minimum from node 8b.  Returns
+    n_nodes when no bound applies.
     """
     nn = ad.shape[0]
     Y0, g, h, xi, T_F = p[I_Y0], p[I_G], p[I_H], p[I_XI], p[I_TF]
@@ -183,14 +194,30 @@ def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_bl
         return nn
     s = SQRT3 * tau_max / Y0 * (1.0 + FRONT_MARGIN)
     lo, hi = 0, nn  # the answer lies in [lo, hi]; m = nn always holds
+    if 0 <= guess < nn:
+        step = 1
+        if _front_ok(guess, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
+            hi = guess
+            while hi > lo:
+                m = max(hi - step, lo)
+                if _front_ok(m, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
+                    hi = m
+                    step *= 2
+                else:
+                    lo = m + 1
+                    break
+        else:
+            lo = guess + 1
+            while lo < hi:
+                m = min(lo + step - 1, hi - 1)
+                if _front_ok(m, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
+                    hi = m
+                    break
+                lo = m + 1
+                step *= 2
     while lo < hi:
         mid = (lo + hi) // 2
-        c = suffix_max(ad, ad_blk, mid) + q_hi * unit_suffix_max[mid]
-        ok = False
-        if c < T_F:
-            r = (1.0 + g * F_N - h * (c - 300.0)) * math.exp(-xi * c / (T_F - c))
-            ok = r > 0.0 and r * suffix_min(hard, hard_blk, mid) > s
-        if ok:
+        if _front_ok(mid, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
             hi = mid
         else:
             lo = mid + 1
@@ -334,7 +361,8 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
                     if qi < q_max:
                         q_max = qi
             q_hi = q_max * (1.0 + 1e-12)
-            m = plastic_depth(tau_max, F_N[j], q_hi, row, blk, unit_sfx, hrow, hard_blk[j], p) if use_front else nn
+            m = plastic_depth(tau_max, F_N[j], q_hi, row, blk, unit_sfx, hrow, hard_blk[j], p, depth[j]) \
+                if use_front else nn
         drow = deps[j]
         old = depth[j] if 0 <= depth[j] <= nn else nn
         for i in range(m, old):
