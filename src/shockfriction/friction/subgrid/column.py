@@ -25,6 +25,10 @@ solves K theta_ad = theta^n + dt s/(rho c) ("adiabatic" solve, q_in = 0) and
 theta_unit = K^{-1} e_0 dt/(rho c w_0) is the response to a unit flux (1 W/m^2)
 from a zero field.  theta_unit and the Thomas factors are cached per dt: one
 batched adiabatic solve per step.
+
+Layout (docs/theory/subgrid-layout.md): the columns are stored (n_nodes, n_columns), the column
+index innermost, so that each Thomas row update is vectorised across the columns, and the affine
+update of a step is applied on the fly by the next step's forward sweep (:func:`sweep_columns`).
 """
 
 from __future__ import annotations

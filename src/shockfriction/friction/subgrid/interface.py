@@ -65,8 +65,8 @@ heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_pla
 beta_Q plastic_work = heat_plastic + plastic_heat_pending + melt_energy.
 ``lag_temperature`` (K, ch. 8) is the largest local temperature rise that the lagged plastic heat of
 this step will add in the next one: the size of the lag the thesis asks to check a posteriori (8.47).  Per-node profiles:
-``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a buffer that the next step
-replaces: copy it to keep it).
+``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a view of the columns' state,
+stored (n_nodes, n_columns) (docs/theory/subgrid-layout.md), that the next step overwrites: copy it to keep it).
 """
 
 from __future__ import annotations
