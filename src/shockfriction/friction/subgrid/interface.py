@@ -78,7 +78,8 @@ import numpy as np
 from shockfriction.errors import SimulationError
 from shockfriction.friction.subgrid.column import ThermalColumns
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
-                                                           solve_thermoelastic, step_inputs)
+                                                           book_step, first_nonfinite, solve_thermoelastic,
+                                                           step_inputs)
 from shockfriction.friction.subgrid.thermoelastoplastic import finish_plastic_step, solve_thermoelastoplastic
 from shockfriction.materials.library import Material, get_material, heat_share
 
@@ -289,17 +290,10 @@ class SubgridInterface:
             j, i = divmod(int(bad), cols.n_nodes)
             raise SimulationError(f"sub-grid step {when}: column {j} reached {X[i, j] + q_in[j] * unit[i]!r} K at "
                                   f"z = {self.z[i]:.3e} m (melting {T_F} K)")
-        heated = (q_in != 0.0)
-        if plastic:
-            heated |= deposited != 0.0
-        cols.active |= heated
-        np.add(X[0], q_in * unit[0], out=self.theta_interface)
+        book_step(X[0], unit[0], q_in, tau, self._v_half, vp, dt, deposited if plastic else q_in, plastic, cols.active,
+                  self.theta_interface, self.slip_macro, self.friction_work, self.heat_interface, self.heat_plastic)
         v_half = self._v_half.copy()
-        self.slip_macro[:] = np.abs(0.5 * (v_half + vp))
-        self.friction_work += tau * self.slip_macro * dt
-        self.heat_interface += q_in * dt
         if plastic:
-            self.heat_plastic += deposited
             finish_plastic_step(self.eps_p, self._deps, self._hard, self._hard_blk, self.scg, self._depth, tau,
                                 self.beta_Q * SQRT3,
                                 cols.weights, self._pending_plastic_heat, self._pending_depth,
@@ -322,16 +316,13 @@ class SubgridInterface:
 
     def _check_finite(self, when: str, plastic: bool) -> None:
         """A step whose accepted state is not finite fails here, in that step (not as bad input in the next)."""
-        vals = (self._theta_s, self.tau, self._v_half, self.slip_local, self.flux_in)
-        if plastic:
-            vals += (self.slip_plastic,)
-        for arr in vals:
-            if not np.all(np.isfinite(arr)):
-                j = int(np.argmax(~np.isfinite(arr)))
-                raise SimulationError(f"sub-grid step {when}: node {j}: the interface solve returned a non-finite "
-                                      f"state (interface {self._theta_s[j]!r} K, tau = {self.tau[j]!r} Pa, "
-                                      f"local slip {self.slip_local[j]!r} m/s, plastic slip "
-                                      f"{self.slip_plastic[j]!r} m/s)")
+        vals = (self._theta_s, self.tau, self._v_half, self.slip_local, self.flux_in, self.slip_plastic)
+        k, j = first_nonfinite(vals if plastic else vals[:5])
+        if k >= 0:
+            raise SimulationError(f"sub-grid step {when}: node {j}: the interface solve returned a non-finite "
+                                  f"state (interface {self._theta_s[j]!r} K, tau = {self.tau[j]!r} Pa, "
+                                  f"local slip {self.slip_local[j]!r} m/s, plastic slip "
+                                  f"{self.slip_plastic[j]!r} m/s)")
 
     def _check(self, when: str) -> None:
         st = self._status

@@ -88,9 +88,10 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
                 th_max = th
         if th_max >= T_F:
             return -1.0
+    if m == 0:
+        return 0.0
     e_min = math.exp(-xi * th_max / (T_F - th_max))
     s = SQRT3 * tau / Y0
-    x_big = math.exp(n * LOG_TARGET_MAX)  # x beyond which x^(1/n) is replaced by exp(LOG_TARGET_MAX)
     lin0 = 1.0 + g * F_N + h * 300.0
     integral = 0.0
     for i in range(m):
@@ -104,7 +105,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
         x = s / r
         if x <= hard[i]:
             continue
-        if x < x_big:
+        if x < math.exp(n * LOG_TARGET_MAX):  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
             d = (x ** (1.0 / n) - 1.0) / beta - eps_prev[i]
         else:
             d = TARGET_MAX / beta
