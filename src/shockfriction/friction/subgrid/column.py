@@ -110,34 +110,40 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
     for j in range(ncol):
         deposited[j] = 0.0
         clipped[j] = 0.0
-    # forward elimination (eq. A.6-A.8)
-    for i in range(nn):
+    # forward elimination (eq. A.6-A.8): the source rows, then the rest (separate loops vectorise)
+    ns = min(n_src, nn)
+    for i in range(ns):
         m = mult[i]
         u = unit[i]
         cur = X[i]
         prev = X[i - 1 if i > 0 else 0]
-        if i < n_src:
-            s = src[i]
-            w = weights[i]
-            for j in range(ncol):
-                th = cur[j] + q[j] * u if lazy else cur[j]
-                p = s[j]
-                if p > 0.0:
-                    room = rho_c * (limit - th)
-                    if room < 0.0:
-                        room = 0.0
-                    if p > room:
-                        clipped[j] += w * (p - room)
-                        p = room
-                        s[j] = p
-                deposited[j] += w * p
-                v = th + p * factor
-                cur[j] = v - m * prev[j] if i > 0 else v
-        elif i == 0:
-            if lazy:
-                for j in range(ncol):
-                    cur[j] = cur[j] + q[j] * u
-        elif lazy:
+        s = src[i]
+        w = weights[i]
+        for j in range(ncol):
+            th = cur[j] + q[j] * u if lazy else cur[j]
+            p = s[j]
+            if p > 0.0:
+                room = rho_c * (limit - th)
+                if room < 0.0:
+                    room = 0.0
+                if p > room:
+                    clipped[j] += w * (p - room)
+                    p = room
+                    s[j] = p
+            deposited[j] += w * p
+            v = th + p * factor
+            cur[j] = v - m * prev[j] if i > 0 else v
+    if ns == 0 and lazy:
+        cur = X[0]
+        u = unit[0]
+        for j in range(ncol):
+            cur[j] = cur[j] + q[j] * u
+    for i in range(max(ns, 1), nn):
+        m = mult[i]
+        cur = X[i]
+        prev = X[i - 1]
+        if lazy:
+            u = unit[i]
             for j in range(ncol):
                 cur[j] = (cur[j] + q[j] * u) - m * prev[j]
         else:
