@@ -424,8 +424,13 @@ class ThermalColumns:
         if heated is not None:
             self.active |= heated
 
-    def step(self, dt: float, q_in, source: np.ndarray | None = None) -> np.ndarray:
-        """One backward-Euler step with interface flux ``q_in`` (W/m^2 entering, per column); returns theta."""
+    def surface(self) -> np.ndarray:
+        """theta at z = 0 of every column (n_columns,), a new array (the state is left as it is)."""
+        return self.X[0] + self.q_lazy * self.unit_lazy[0] if self.lazy else self.X[0].copy()
+
+    def step(self, dt: float, q_in, source: np.ndarray | None = None) -> None:
+        """One backward-Euler step with interface flux ``q_in`` (W/m^2 entering, per column) and an optional
+        volumetric source (W/m^3, (n_columns, n_nodes)); the result is read through :attr:`theta`."""
         q = np.broadcast_to(np.asarray(q_in, float), (self.n_columns,))
         heated = q != 0.0
         if source is None:
@@ -438,7 +443,6 @@ class ThermalColumns:
             heated = heated | np.any(source != 0.0, axis=1)
         self.set_flux(q)
         self.active |= heated
-        return self.theta
 
     def heat_content(self) -> np.ndarray:
         """Stored heat per unit interface area, rho c sum_i w_i (theta_i - T0), J/m^2 (per column)."""
