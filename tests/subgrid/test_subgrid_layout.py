@@ -66,9 +66,9 @@ def test_public_adiabatic_keeps_the_state_and_equals_the_in_place_sweep():
     col.active[:] = True
     col.X[...] = 300.0 + rng.uniform(0.0, 300.0, size=col.X.shape)
     col.set_flux(rng.uniform(0.0, 1e10, col.n_columns))
-    before = (col.X.copy(), col.lazy)
+    before = (col.X.copy(), col.lazy, col._sfx.copy())
     ad = col.adiabatic(1e-9).copy()
-    assert np.array_equal(col.X, before[0]) and col.lazy == before[1]
+    assert np.array_equal(col.X, before[0]) and col.lazy == before[1] and np.array_equal(col._sfx, before[2])
     assert np.array_equal(ad, col.advance(1e-9).T)
 
 

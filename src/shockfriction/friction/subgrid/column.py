@@ -409,9 +409,10 @@ class ThermalColumns:
             src = np.ascontiguousarray(np.asarray(values, float).T)
             n_src = src.shape[0]
             flags = np.any(src * factor != 0.0, axis=0)
+        scratch = np.empty(self.n_columns)  # the state's own sums and maxima are left alone
         sweep_columns(out, self.q_lazy, self.unit_lazy, self.lazy, src, n_src, factor, self.rho_c, math.inf,
-                      self.weights, self._clipped, self._deposited, self.mult, self.inv_bp, self.c,
-                      self._idle(flags), self._idle_val, self._sfx)
+                      self.weights, scratch, scratch.copy(), self.mult, self.inv_bp, self.c,
+                      self._idle(flags), self._idle_val, np.empty_like(self._sfx))
         return out.T
 
     def affine(self, theta_ad: np.ndarray, q_in: np.ndarray) -> np.ndarray:

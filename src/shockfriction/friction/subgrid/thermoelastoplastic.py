@@ -245,12 +245,14 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
         work = 0.0
         top = 0.0
         flag = False
+        top_changed = -1  # deepest node whose hardening changed
         for i in range(m):
             d = deps[j, i]
             if d > 0.0:
                 e = eps[j, i] + d
                 eps[j, i] = e
                 hard[j, i] = (1.0 + beta * e) ** n
+                top_changed = i
             work += weights[i] * d
             h = c * d
             pending[i, j] = h
@@ -260,8 +262,8 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
                 top = h
         for i in range(m, old):
             pending[i, j] = 0.0
-        if m > 0:
-            block_suffix_min(hard[j], hard_blk[j], (m - 1) // 8)
+        if top_changed >= 0:
+            block_suffix_min(hard[j], hard_blk[j], top_changed // 8)
         pending_depth[j] = m
         flags[j] = flag
         plastic_work[j] += SQRT3 * tau[j] * work
