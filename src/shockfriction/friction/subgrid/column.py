@@ -119,19 +119,16 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
         prev = X[i - 1 if i > 0 else 0]
         s = src[i]
         w = weights[i]
-        for j in range(ncol):
+        for j in range(ncol):  # branch-free: an unclipped value adds w * 0 = 0 to clipped[j]
             th = cur[j] + q[j] * u if lazy else cur[j]
             p = s[j]
-            if p > 0.0:
-                room = rho_c * (limit - th)
-                if room < 0.0:
-                    room = 0.0
-                if p > room:
-                    clipped[j] += w * (p - room)
-                    p = room
-                    s[j] = p
-            deposited[j] += w * p
-            v = th + p * factor
+            room = rho_c * (limit - th)
+            room = room if room > 0.0 else 0.0
+            kept = room if p > room else p
+            clipped[j] += w * (p - kept)
+            s[j] = kept
+            deposited[j] += w * kept
+            v = th + kept * factor
             cur[j] = v - m * prev[j] if i > 0 else v
     if ns == 0 and lazy:
         cur = X[0]
