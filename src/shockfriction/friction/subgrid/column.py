@@ -290,6 +290,7 @@ class ThermalColumns:
         self.X = np.full((nn, self.n_columns), self.T0)  # theta, or theta_ad when lazy (node, column)
         self.q_lazy = np.zeros(self.n_columns)  # W/m^2 of the last step, not yet applied to X
         self.unit_lazy = np.zeros(nn)  # the theta_unit it goes with
+        self.unit_lazy_max = 0.0
         self.lazy = False
         self.active = np.zeros(self.n_columns, dtype=np.bool_)  # False: uniform, nothing to diffuse
         self.col_max = np.zeros(self.n_columns)  # max_i theta_ad after the last sweep
@@ -320,11 +321,6 @@ class ThermalColumns:
     def theta(self, value) -> None:
         self.lazy = False
         self.X.T[...] = value
-
-    @property
-    def theta_ad_soa(self) -> np.ndarray:
-        """theta_ad of the last :meth:`advance`, (n_nodes, n_columns) (valid until the next one)."""
-        return self.X
 
     def prepare(self, dt: float) -> None:
         """Factor K and compute the unit-flux response for ``dt``; reused while dt does not change.
@@ -382,13 +378,14 @@ class ThermalColumns:
         """Complete the step lazily: theta = theta_ad + q_in theta_unit (eq. 7.70), applied by the next sweep."""
         self.q_lazy[:] = q_in
         self.unit_lazy[:] = self.theta_unit
+        self.unit_lazy_max = self.unit_max
         self.lazy = True
 
     def melt_index(self, limit: float) -> int:
         """Flat index (column n_nodes + node) of the first node of theta not below ``limit``, else -1."""
         if not self.lazy:
             return melt_check(self.X, np.zeros(self.n_columns), self.unit_lazy, 0.0, self.X.max(axis=0), limit)
-        return melt_check(self.X, self.q_lazy, self.unit_lazy, self.unit_max, self.col_max, limit)
+        return melt_check(self.X, self.q_lazy, self.unit_lazy, self.unit_lazy_max, self.col_max, limit)
 
     def adiabatic(self, dt: float, source: np.ndarray | None = None, deposit: np.ndarray | None = None) -> np.ndarray:
         """theta_ad (eq. 7.68): the step with zero interface flux, shaped (n_columns, n_nodes); the state is kept.
