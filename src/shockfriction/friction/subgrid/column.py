@@ -294,7 +294,7 @@ class ThermalColumns:
         self.lazy = False
         self.active = np.zeros(self.n_columns, dtype=np.bool_)  # False: uniform, nothing to diffuse
         self.col_max = np.zeros(self.n_columns)  # max_i theta_ad after the last sweep
-        self._sfx = np.empty(((nn + 7) // 8, self.n_columns))  # suffix maxima of theta_ad every 8 rows
+        self._sfx = np.zeros(((nn + 7) // 8, self.n_columns))  # suffix maxima of theta_ad every 8 rows
         self._out = np.empty_like(self.X)  # theta_ad of the public adiabatic()
         self._clipped = np.zeros(self.n_columns)
         self._deposited = np.zeros(self.n_columns)
