@@ -2,43 +2,92 @@
 
     PYTHONPATH=src python benchmarks/subgrid.py [--columns 1000] [--cells 500] [--repeats 3]
 
-Compares the batched numba path (SubgridInterface.step: one factored Thomas sweep per column
-per step, Brent in numba) with a plain baseline: one scipy.linalg.solve_banded per column per
-step and scipy.optimize.brentq on the same residual in Python (numpy for the plastic layer).
-The viscoplastic model (inertia on, eta_vp from the material or 50 Pa s) has no baseline.
+Compares the batched numba path (SubgridInterface.step: the columns stored (n_nodes, n_columns),
+one fused factored Thomas sweep per step vectorised across the columns, Brent in numba) with
+
+* the ceiling: a bare factored Thomas solve (forward + backward sweep, nothing else) on an array
+  of the same size laid out the same way (column index innermost), in the same process;
+* a plain baseline: one scipy.linalg.solve_banded per column per step and scipy.optimize.brentq
+  on the same residual in Python (numpy for the plastic layer).
+
+The viscoplastic model (inertia on, eta_vp from the material or 50 Pa s) has neither; it is timed
+over ``--vp-steps`` steps after 5 warm-up steps (it is about 1000 times slower).
 Loading: the thesis's Ball case (Al 5083-H111, 10 GPa, 150-250 m/s spread over the columns,
-f = 0.3, dt = 1 ns), after 20 warm-up steps.  Prints the median of the repeats.
+f = 0.3, dt = 1 ns), after 20 warm-up steps.  Each repeat times the model and then the bare
+Thomas solve (interleaved, so that both see the same load); prints the medians.  Times are the
+CPU time of this (single-threaded) process, i.e. node-steps per second on one core, which other
+processes sharing the machine do not inflate (``--wall`` for wall-clock time); the load average
+is printed with them.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import statistics
 import time
 
 import numpy as np
+from numba import njit
 from scipy.linalg import solve_banded
 from scipy.optimize import brentq
 
-from shockfriction.friction.subgrid.column import heat_matrix
+from shockfriction.friction.subgrid.column import heat_matrix, thomas_factor
 from shockfriction.friction.subgrid.interface import SubgridInterface
 from shockfriction.materials.library import get_material, heat_share
 from shockfriction.materials.strength import shear_ratio
 
 AL, ST = get_material("Al5083-H111"), get_material("AISI321")
 SIGMA, DT, F = 10e9, 1e-9, 0.3
+clock = time.process_time  # CPU time of this process (main() switches to wall-clock time with --wall)
 
 
-def fast(model, ncol, cells, steps):
+def fast(model, ncol, cells, steps, warmup=20):
     sg = SubgridInterface(ncol, AL, ST, n_cells=cells, model=model, mu0=0.3, f=F)
     v = np.linspace(150.0, 250.0, ncol)
-    for _ in range(20):
+    for _ in range(warmup):
         sg.step(SIGMA, v, v, np.inf, np.inf, 1.0, DT)
-    t0 = time.perf_counter()
+    t0 = clock()
     for _ in range(steps):
         sg.step(SIGMA, v, v, np.inf, np.inf, 1.0, DT)
-    return ncol * steps / (time.perf_counter() - t0)
+    return ncol * steps / (clock() - t0)
+
+
+@njit(cache=True)
+def bare_thomas(X, mult, inv_bp, c):
+    """The ceiling: factored Thomas solve (eq. A.6-A.12) of every column of X (n_nodes, n_columns), in place."""
+    nn, ncol = X.shape
+    for i in range(1, nn):
+        m = mult[i]
+        cur = X[i]
+        prev = X[i - 1]
+        for j in range(ncol):
+            cur[j] = cur[j] - m * prev[j]
+    last = X[nn - 1]
+    ib = inv_bp[nn - 1]
+    for j in range(ncol):
+        last[j] = last[j] * ib
+    for i in range(nn - 2, -1, -1):
+        ci = c[i]
+        ib = inv_bp[i]
+        cur = X[i]
+        nxt = X[i + 1]
+        for j in range(ncol):
+            cur[j] = (cur[j] - ci * nxt[j]) * ib
+
+
+def ceiling(ncol, cells, steps):
+    """Node-steps/s of the bare Thomas solve on (cells + 1, ncol), the same matrix as the columns."""
+    m = AL
+    a, b, c = heat_matrix(np.linspace(0.0, 20e-6, cells + 1), m.conductivity / (m.rho0 * m.heat_capacity), DT)
+    mult, inv_bp = thomas_factor(a, b, c)
+    X = np.full((cells + 1, ncol), 300.0)
+    bare_thomas(X, mult, inv_bp, c)
+    t0 = clock()
+    for _ in range(steps):
+        bare_thomas(X, mult, inv_bp, c)
+    return ncol * steps / (clock() - t0)
 
 
 class Baseline:
@@ -106,10 +155,10 @@ class Baseline:
 def slow(model, ncol, cells, steps):
     b = Baseline(model, ncol, cells)
     b.step()
-    t0 = time.perf_counter()
+    t0 = clock()
     for _ in range(steps):
         b.step()
-    return ncol * steps / (time.perf_counter() - t0)
+    return ncol * steps / (clock() - t0)
 
 
 def main():
@@ -118,20 +167,31 @@ def main():
     ap.add_argument("--cells", type=int, default=500)
     ap.add_argument("--steps", type=int, default=50)
     ap.add_argument("--baseline-steps", type=int, default=2)
+    ap.add_argument("--vp-steps", type=int, default=5, help="timed steps of the viscoplastic model (after 5)")
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--wall", action="store_true", help="time with the wall clock instead of CPU time")
     args = ap.parse_args()
+    global clock
+    clock = time.perf_counter if args.wall else time.process_time
     fast("thermoelastic", 2, 10, 1)  # compile
     fast("thermoelastoplastic", 2, 10, 1)
     fast("viscoplastic", 2, 10, 1)
-    print(f"{args.columns} columns x {args.cells} cells, dt = 1 ns, median of {args.repeats} repeats")
-    print(f"{'model':22s} {'numba node-steps/s':>20s} {'baseline node-steps/s':>22s} {'ratio':>8s}")
+    load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    print(f"{args.columns} columns x {args.cells} cells, dt = 1 ns, median of {args.repeats} repeats, "
+          f"{'wall-clock' if args.wall else 'CPU'} time, load average {load}")
+    print(f"{'model':20s} {'numba node-steps/s':>19s} {'bare Thomas':>12s} {'of ceiling':>10s} "
+          f"{'baseline':>10s} {'speed-up':>9s}")
     for model in ("thermoelastic", "thermoelastoplastic"):
-        f = statistics.median(fast(model, args.columns, args.cells, args.steps) for _ in range(args.repeats))
+        pairs = [(fast(model, args.columns, args.cells, args.steps), ceiling(args.columns, args.cells, args.steps))
+                 for _ in range(args.repeats)]
+        f = statistics.median(p[0] for p in pairs)
+        c = statistics.median(p[1] for p in pairs)
         s = statistics.median(slow(model, args.columns, args.cells, args.baseline_steps) for _ in range(args.repeats))
-        print(f"{model:22s} {f:20.4g} {s:22.4g} {f / s:8.1f}")
+        print(f"{model:20s} {f:19.4g} {c:12.4g} {f / c:10.2f} {s:10.4g} {f / s:9.1f}")
     # viscoplastic columns (inertia, overstress flow, enthalpy melting): no scipy baseline
-    f = statistics.median(fast("viscoplastic", args.columns, args.cells, args.steps) for _ in range(args.repeats))
-    print(f"{'viscoplastic':22s} {f:20.4g} {'-':>22s} {'-':>8s}")
+    f = statistics.median(fast("viscoplastic", args.columns, args.cells, args.vp_steps, warmup=5)
+                          for _ in range(args.repeats))
+    print(f"{'viscoplastic':20s} {f:19.4g} {'-':>12s} {'-':>10s} {'-':>10s} {'-':>9s}")
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@ import pytest
 
 from shockfriction.contact.impulses import _apply
 from shockfriction.coupled.kernels import capped_tangential_step, column_inputs
-from shockfriction.friction.subgrid.column import clip_deposit
+from shockfriction.friction.subgrid.column import sweep_columns
 
 
 def _config(seed=0):
@@ -81,16 +81,24 @@ def test_capped_step_applies_the_cap_against_the_slip_and_sticks_below_it():
 
 
 def test_plastic_heat_clipped_below_melting_with_the_energy_booked():
+    """The melt guard in the forward sweep (columns innermost: arrays (n_nodes, n_columns)); with K = I the
+    swept temperatures are theta + kept/(rho c), which must stay at or below the limit."""
     rho_c, limit = 2.4e6, 1219.0
     theta = np.array([[1000.0, 1218.0, 1218.9], [300.0, 300.0, 300.0]])
     pending = np.array([[1e6, 4.8e6, 1e6], [5e6, 0.0, 1e5]])
     w = np.array([0.5, 1.0, 0.5])
     area = np.array([2.0, 3.0])
     before = (pending @ w) @ area
-    per_column = np.zeros(2)
-    clip_deposit(pending, theta, rho_c, limit, w, per_column)
+    per_column, deposited = np.zeros(2), np.zeros(2)
+    X, src = np.ascontiguousarray(theta.T), np.ascontiguousarray(pending.T)
+    zero, one = np.zeros(3), np.ones(3)
+    sweep_columns(X, np.zeros(2), zero, False, src, 3, 1.0 / rho_c, rho_c, limit, w, per_column, deposited,
+                  zero, one, zero, np.zeros(0, np.int64), np.zeros(2), np.empty((1, 2)))
     lost = per_column @ area
-    assert np.all(theta + pending / rho_c <= limit + 1e-12)
+    pending = src.T
     np.testing.assert_allclose(pending, [[1e6, 2.4e6, 0.24e6], [5e6, 0.0, 1e5]])
+    np.testing.assert_allclose(X.T, theta + pending / rho_c, rtol=1e-15)
+    assert np.all(X <= limit + 1e-12)
     assert lost == pytest.approx(before - (pending @ w) @ area, rel=1e-14)
     assert lost == pytest.approx(2.0 * (1.0 * 2.4e6 + 0.5 * 0.76e6))
+    np.testing.assert_allclose(deposited, pending @ w, rtol=1e-15)

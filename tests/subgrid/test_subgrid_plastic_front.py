@@ -86,7 +86,10 @@ def test_plastic_depth_bound_is_conservative():
         ad_s = np.maximum.accumulate(ad[::-1])[::-1].copy()
         unit_s = np.maximum.accumulate(unit[::-1])[::-1].copy()
         hard_s = np.minimum.accumulate(hard[::-1])[::-1].copy()
-        m = plastic_depth(tau_max, F_N, q_hi, ad_s, unit_s, hard_s, p)
+        m = plastic_depth(tau_max, F_N, q_hi, ad, ad_s[::8].copy(), unit_s, hard, hard_s[::8].copy(), p)
+        for guess in (0, m - 1, m, m + 1, nn - 1, int(rng.integers(nn))):  # galloping from a guess: same m
+            assert plastic_depth(tau_max, F_N, q_hi, ad, ad_s[::8].copy(), unit_s, hard, hard_s[::8].copy(), p,
+                                 guess) == m
         for q in np.linspace(0.0, q_hi, 7):
             T = ad[m:] + q * unit[m:]
             G = (1 + AL.scg_g * F_N - AL.scg_h * (T - 300.0)) * np.exp(-AL.scg_xi * T / (AL.melting_temperature - T))

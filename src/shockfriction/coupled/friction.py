@@ -24,8 +24,8 @@ line's friction work): each step adds S_j^n times the per-area increments of nod
 * ``cold_work``: (1 - beta_Q) of the plastic work (stored in the layer's defects);
 * ``plastic_heat_pending``: beta_Q times the last step's plastic work, deposited next step;
 * ``melt_energy``: lagged plastic heat that would have taken a column node past melting, clipped
-  off (the energy melting would absorb; thermoelastoplastic only, the melt guard
-  :meth:`~shockfriction.friction.subgrid.interface.SubgridInterface.limit_plastic_heat` shared with the
+  off (the energy melting would absorb; thermoelastoplastic only, the melt guard of
+  :meth:`~shockfriction.friction.subgrid.interface.SubgridInterface.step` shared with the
   uncoupled driver);
 * ``friction_work_columns``: tau |[V]^n| dt, the columns' view of the friction work.
 

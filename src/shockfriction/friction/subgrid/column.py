@@ -25,6 +25,10 @@ solves K theta_ad = theta^n + dt s/(rho c) ("adiabatic" solve, q_in = 0) and
 theta_unit = K^{-1} e_0 dt/(rho c w_0) is the response to a unit flux (1 W/m^2)
 from a zero field.  theta_unit and the Thomas factors are cached per dt: one
 batched adiabatic solve per step.
+
+Layout (docs/theory/subgrid-layout.md): the columns are stored (n_nodes, n_columns), the column
+index innermost, so that each Thomas row update is vectorised across the columns, and the affine
+update of a step is applied on the fly by the next step's forward sweep (:func:`sweep_columns`).
 """
 
 from __future__ import annotations
@@ -83,96 +87,138 @@ def thomas_apply(mult, inv_bp, c, d, x):
 
 
 @njit(cache=True)
-def adiabatic_solve_batched(theta, source_dt, mult, inv_bp, c, active, out):
-    """theta_ad for every column: K theta_ad = theta + source_dt (rows of 2D arrays).
+def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, clipped, deposited, mult, inv_bp, c,
+                  idle, idle_val, sfx):
+    """theta_ad for every column, in place: X (n_nodes, n_columns) holds theta on entry (or, when ``lazy``,
+    the previous theta_ad with theta = X + q theta_unit_prev, eq. 7.70, applied here on the fly: the
+    affine update of the last step folded into this forward sweep) and theta_ad on exit,
+    K theta_ad = theta + factor src.
 
-    ``source_dt`` is dt*s/(rho c) in K (pass zeros for none); columns with ``active[j] == False``
-    are uniform and source-free, so theta_ad = theta there.  The factored Thomas sweeps run on
-    blocks of 8 columns at once (independent recurrences interleaved: about twice the speed of
-    one column after the other).
+    Only the first ``n_src`` rows of ``src`` are read (zero below; ``n_src = 0``: no source, none read).
+    Each source value p (J/m^3 or W/m^3 by ``factor``) is first clipped to rho_c (limit - theta) >= 0
+    (melt guard, ``limit = inf``: none); ``clipped[j]`` receives the clipped energy sum_i w_i (p - kept),
+    ``src`` keeps the clipped value and ``deposited[j]`` += sum_i w_i p_kept.  The columns listed in ``idle``
+    are uniform and source-free: they keep their value (``idle_val`` is scratch).  ``sfx[b, j]`` receives the
+    suffix maximum max_{i >= 8b} theta_ad[i, j] (``sfx[0]``: the column maximum).  The factored Thomas
+    sweeps (eq. A.6-A.12) run row by row, each row's update vectorised across the columns.
     """
-    ncol, n = theta.shape
-    idx = np.empty(ncol, np.int64)
-    na = 0
+    nn, ncol = X.shape
+    u0 = unit[0]
+    for k in range(idle.shape[0]):
+        j = idle[k]
+        idle_val[k] = X[0, j] + q[j] * u0 if lazy else X[0, j]
     for j in range(ncol):
-        if active[j]:
-            idx[na] = j
-            na += 1
+        deposited[j] = 0.0
+        clipped[j] = 0.0
+    # forward elimination (eq. A.6-A.8): the source rows, then the rest (separate loops vectorise)
+    ns = min(n_src, nn)
+    for i in range(ns):
+        m = mult[i]
+        u = unit[i]
+        cur = X[i]
+        prev = X[i - 1 if i > 0 else 0]
+        s = src[i]
+        w = weights[i]
+        for j in range(ncol):  # branch-free: an unclipped value adds w * 0 = 0 to clipped[j]
+            th = cur[j] + q[j] * u if lazy else cur[j]
+            p = s[j]
+            room = rho_c * (limit - th)
+            room = room if room > 0.0 else 0.0
+            kept = room if p > room else p
+            clipped[j] += w * (p - kept)
+            s[j] = kept
+            deposited[j] += w * kept
+            v = th + kept * factor
+            cur[j] = v - m * prev[j] if i > 0 else v
+    if ns == 0 and lazy:
+        cur = X[0]
+        u = unit[0]
+        for j in range(ncol):
+            cur[j] = cur[j] + q[j] * u
+    for i in range(max(ns, 1), nn):
+        m = mult[i]
+        cur = X[i]
+        prev = X[i - 1]
+        if lazy:
+            u = unit[i]
+            for j in range(ncol):
+                cur[j] = (cur[j] + q[j] * u) - m * prev[j]
         else:
-            for i in range(n):
-                out[j, i] = theta[j, i]
-    for s in range(0, na, 8):
-        e = min(s + 8, na)
-        for b in range(s, e):
-            j = idx[b]
-            out[j, 0] = theta[j, 0] + source_dt[j, 0]
-        for i in range(1, n):
-            m = mult[i]
-            for b in range(s, e):
-                j = idx[b]
-                out[j, i] = theta[j, i] + source_dt[j, i] - m * out[j, i - 1]
-        for b in range(s, e):
-            j = idx[b]
-            out[j, n - 1] *= inv_bp[n - 1]
-        for i in range(n - 2, -1, -1):
-            ci = c[i]
+            for j in range(ncol):
+                cur[j] = cur[j] - m * prev[j]
+    # back substitution (eq. A.9-A.12) in blocks of 8 rows, then the block's suffix maxima
+    nb = sfx.shape[0]
+    for b in range(nb - 1, -1, -1):
+        i0 = 8 * b
+        i1 = min(i0 + 8, nn)
+        for i in range(i1 - 1, i0 - 1, -1):
+            cur = X[i]
             ib = inv_bp[i]
-            for b in range(s, e):
-                j = idx[b]
-                out[j, i] = (out[j, i] - ci * out[j, i + 1]) * ib
+            if i == nn - 1:
+                for j in range(ncol):
+                    cur[j] = cur[j] * ib
+            else:
+                ci = c[i]
+                nxt = X[i + 1]
+                for j in range(ncol):
+                    cur[j] = (cur[j] - ci * nxt[j]) * ib
+            for k in range(idle.shape[0]):
+                cur[idle[k]] = idle_val[k]
+        top = sfx[b]
+        first = X[i1 - 1] if b == nb - 1 else sfx[b + 1]
+        for j in range(ncol):
+            top[j] = first[j]
+        for i in range(i0, i1):
+            row = X[i]
+            for j in range(ncol):
+                a = top[j]
+                x = row[j]
+                top[j] = x if x > a else a
 
 
 @njit(cache=True)
-def scale_rows(values, factor, out, nonzero):
-    """out = values * factor; nonzero[j] = any value of row j is not 0 (no temporaries)."""
-    ncol, n = values.shape
+def melt_check(X, q, unit, unit_max, col_max, limit):
+    """First flat index j n_nodes + i of theta = X[i, j] + q[j] unit[i] (eq. 7.70) that is not below
+    ``limit``, else -1.  A column is scanned only when its bound col_max[j] + q[j] unit_max is not below
+    (rounding is monotone, so the bound is exact for q >= 0)."""
+    nn, ncol = X.shape
     for j in range(ncol):
-        flag = False
-        for i in range(n):
-            v = values[j, i] * factor
-            out[j, i] = v
-            if v != 0.0:
-                flag = True
-        nonzero[j] = flag
+        qj = q[j]
+        if qj >= 0.0 and col_max[j] + qj * unit_max < limit:
+            continue
+        for i in range(nn):
+            if not X[i, j] + qj * unit[i] < limit:
+                return j * nn + i
+    return -1
 
 
 @njit(cache=True)
-def affine_update(theta_ad, q_in, theta_unit, limit, out):
-    """out = theta_ad + q_in theta_unit (eq. 7.70) for every column; return the flat index of the
-    first value that is not finite or not below ``limit`` (the melting temperature), else -1."""
-    ncol, n = theta_ad.shape
-    bad = -1
+def materialise(X, q, unit):
+    """X <- X + q unit (eq. 7.70, in place), rows (n_nodes) by columns."""
+    nn, ncol = X.shape
+    for i in range(nn):
+        u = unit[i]
+        row = X[i]
+        for j in range(ncol):
+            row[j] = row[j] + q[j] * u
+
+
+@njit(cache=True)
+def weighted_rise(X, q, unit, lazy, T0, weights, out):
+    """out[j] = sum_i w_i (theta_ij - T0), theta = X (+ q unit when ``lazy``)."""
+    nn, ncol = X.shape
     for j in range(ncol):
-        q = q_in[j]
-        for i in range(n):
-            v = theta_ad[j, i] + q * theta_unit[i]
-            out[j, i] = v
-            if bad < 0 and not v < limit:
-                bad = j * n + i
-    return bad
+        out[j] = 0.0
+    for i in range(nn):
+        u = unit[i]
+        w = weights[i]
+        row = X[i]
+        for j in range(ncol):
+            th = row[j] + q[j] * u if lazy else row[j]
+            out[j] += w * (th - T0)
 
 
 # --------------------------------------------------------------------------- grids
-@njit(cache=True)
-def clip_deposit(pending, theta, rho_c, limit, weights, clipped):
-    """Melt guard of the lagged plastic heat: clip each node's pending heat (J/m^3) to
-    rho_c (limit - theta) (>= 0) and add each row's clipped energy sum_i w_i (pending - kept)
-    (J/m^2) to ``clipped[j]``.  By the maximum principle of the backward-Euler solve,
-    theta_ad <= max_i (theta_i + deposit_i/(rho c)) <= limit after the clip."""
-    for j in range(pending.shape[0]):
-        row = 0.0
-        for i in range(pending.shape[1]):
-            p = pending[j, i]
-            if p > 0.0:
-                room = rho_c * (limit - theta[j, i])
-                if room < 0.0:
-                    room = 0.0
-                if p > room:
-                    row += weights[i] * (p - room)
-                    pending[j, i] = room
-        clipped[j] += row
-
-
 def make_grid(thickness: float, n_cells: int, grading: float = 1.0) -> np.ndarray:
     """Node positions z_0 = 0 .. z_M = h; uniform (grading = 1, thesis eq. 6.73) or geometric dz_i = dz_0 r^i."""
     if not thickness > 0.0:
@@ -232,11 +278,17 @@ def heat_matrix(z: np.ndarray, diffusivity: float, dt: float) -> tuple[np.ndarra
 
 # --------------------------------------------------------------------------- the columns
 class ThermalColumns:
-    """``n_columns`` identical 1D columns of one material, temperatures shaped (n_columns, n_nodes).
+    """``n_columns`` identical 1D columns of one material.
 
     Parameters are SI: thickness h (m), conductivity kappa (W/m/K), density rho (kg/m^3),
     heat capacity c (J/kg/K), initial temperature T0 (K).  ``grading`` is the ratio of
     successive cell sizes (1 = the thesis's uniform grid).
+
+    Layout (docs/theory/subgrid-layout.md): the state ``X`` is (n_nodes, n_columns), the column
+    index innermost, so that every Thomas row update runs across the columns in SIMD.  After
+    :meth:`advance` + :meth:`set_flux` the state is *lazy*: X holds theta_ad and theta = X +
+    q theta_unit (eq. 7.70) is applied by the next forward sweep (or by :attr:`theta`).  ``theta``
+    is the (n_columns, n_nodes) view of the materialised state (writes go through).
     """
 
     CACHE_SIZE = 4
@@ -252,19 +304,41 @@ class ThermalColumns:
         self.alpha = self.kappa / self.rho_c
         self.T0 = float(T0)
         self.n_columns = int(n_columns)
-        self.theta = np.full((self.n_columns, self.z.size), self.T0)
-        self.active = np.zeros(self.n_columns, dtype=np.bool_)  # False: uniform T0, nothing to diffuse
-        self._zero_source = np.zeros_like(self.theta)
-        self._out = np.empty_like(self.theta)
-        self._src = np.empty_like(self.theta)
-        self._flags = np.zeros(self.n_columns, dtype=np.bool_)
+        nn = self.z.size
+        self.X = np.full((nn, self.n_columns), self.T0)  # theta, or theta_ad when lazy (node, column)
+        self.q_lazy = np.zeros(self.n_columns)  # W/m^2 of the last step, not yet applied to X
+        self.unit_lazy = np.zeros(nn)  # the theta_unit it goes with
+        self.unit_lazy_max = 0.0
+        self.lazy = False
+        self.active = np.zeros(self.n_columns, dtype=np.bool_)  # False: uniform, nothing to diffuse
+        self.col_max = np.zeros(self.n_columns)  # max_i theta_ad after the last sweep
+        self._sfx = np.zeros(((nn + 7) // 8, self.n_columns))  # suffix maxima of theta_ad every 8 rows
+        self._out = np.empty_like(self.X)  # theta_ad of the public adiabatic()
+        self._clipped = np.zeros(self.n_columns)
+        self._deposited = np.zeros(self.n_columns)
+        self._idle_val = np.empty(self.n_columns)
+        self._no_src = np.empty((0, self.n_columns))
+        self._rise = np.empty(self.n_columns)
         self.dt = math.nan
         self.factorisations = 0
-        self._cache: dict[float, tuple] = {}  # dt -> (mult, inv_bp, c, theta_unit), the last few steps
+        self._cache: dict[float, tuple] = {}  # dt -> (mult, inv_bp, c, theta_unit, max theta_unit), the last few
 
     @property
     def n_nodes(self) -> int:
         return self.z.size
+
+    @property
+    def theta(self) -> np.ndarray:
+        """Temperatures (n_columns, n_nodes): a view of the state (applies a pending flux first)."""
+        if self.lazy:
+            materialise(self.X, self.q_lazy, self.unit_lazy)
+            self.lazy = False
+        return self.X.T
+
+    @theta.setter
+    def theta(self, value) -> None:
+        self.lazy = False
+        self.X.T[...] = value
 
     def prepare(self, dt: float) -> None:
         """Factor K and compute the unit-flux response for ``dt``; reused while dt does not change.
@@ -276,7 +350,7 @@ class ThermalColumns:
         if not (dt > 0.0 and math.isfinite(dt)):
             raise ValueError(f"time step must be positive and finite, got {dt!r}")
         if dt in self._cache:
-            self.mult, self.inv_bp, self.c, self.theta_unit = self._cache[dt]
+            self.mult, self.inv_bp, self.c, self.theta_unit, self.unit_max = self._cache[dt]
             self.dt = dt
             return
         a, b, c = heat_matrix(self.z, self.alpha, dt)
@@ -287,53 +361,103 @@ class ThermalColumns:
         unit = np.empty(self.n_nodes)
         thomas_apply(self.mult, self.inv_bp, c, rhs, unit)
         self.theta_unit = unit  #: temperature rise per W/m^2 of interface flux over one step, K m^2/W
+        self.unit_max = float(unit.max())
         self.dt = dt
         self.factorisations += 1
         if len(self._cache) >= self.CACHE_SIZE:
             self._cache.pop(next(iter(self._cache)))
-        self._cache[dt] = (self.mult, self.inv_bp, self.c, self.theta_unit)
+        self._cache[dt] = (self.mult, self.inv_bp, self.c, self.theta_unit, self.unit_max)
 
-    def adiabatic(self, dt: float, source: np.ndarray | None = None, deposit: np.ndarray | None = None) -> np.ndarray:
-        """theta_ad (eq. 7.68): the step with zero interface flux, shaped (n_columns, n_nodes).
+    def _idle(self, extra: np.ndarray | None = None) -> np.ndarray:
+        """Indices of the columns that the sweep leaves as they are (inactive and, with ``extra``, no source)."""
+        act = self.active if extra is None else (self.active | extra)
+        return np.flatnonzero(~act)
 
-        ``source`` is a volumetric heat source s (W/m^3) over the step, or ``deposit`` an energy
-        density (J/m^3) put in during the step (the lagged plastic heat); at most one of them.
-        The returned array is a buffer reused by the next call.
+    def advance(self, dt: float, src: np.ndarray | None = None, n_src: int = 0, factor: float = 1.0,
+                limit: float = math.inf, src_flags: np.ndarray | None = None) -> np.ndarray:
+        """In place: the state becomes theta_ad (eq. 7.68), returned as (n_nodes, n_columns).
+
+        ``src`` (n_nodes, n_columns), rows below ``n_src`` zero, is a source scaled by ``factor`` into
+        kelvin (``src_flags[j]``: column j has one), clipped first to rho_c (limit - theta) (the clipped
+        energy per column goes to ``self._clipped``, sum_i w_i src_kept to ``self._deposited``).
         """
         self.prepare(dt)
-        if source is None and deposit is None:
-            src = self._zero_source
-            active = self.active
-        else:
+        if src is None:
+            src, n_src = self._no_src, 0
+        idle = self._idle(src_flags if n_src > 0 else None)
+        sweep_columns(self.X, self.q_lazy, self.unit_lazy, self.lazy, src, int(n_src), float(factor), self.rho_c,
+                      float(limit), self.weights, self._clipped, self._deposited, self.mult, self.inv_bp, self.c,
+                      idle, self._idle_val, self._sfx)
+        self.lazy = False
+        self.col_max = self._sfx[0]
+        return self.X
+
+    def set_flux(self, q_in: np.ndarray) -> None:
+        """Complete the step lazily: theta = theta_ad + q_in theta_unit (eq. 7.70), applied by the next sweep."""
+        self.q_lazy[:] = q_in
+        self.unit_lazy[:] = self.theta_unit
+        self.unit_lazy_max = self.unit_max
+        self.lazy = True
+
+    def melt_index(self, limit: float) -> int:
+        """Flat index (column n_nodes + node) of the first node of theta not below ``limit``, else -1."""
+        if not self.lazy:
+            return melt_check(self.X, np.zeros(self.n_columns), self.unit_lazy, 0.0, self.X.max(axis=0), limit)
+        return melt_check(self.X, self.q_lazy, self.unit_lazy, self.unit_lazy_max, self.col_max, limit)
+
+    def adiabatic(self, dt: float, source: np.ndarray | None = None, deposit: np.ndarray | None = None) -> np.ndarray:
+        """theta_ad (eq. 7.68): the step with zero interface flux, shaped (n_columns, n_nodes); the state is kept.
+
+        ``source`` is a volumetric heat source s (W/m^3) over the step, or ``deposit`` an energy
+        density (J/m^3) put in during the step (the lagged plastic heat); at most one of them, each
+        (n_columns, n_nodes).  The returned array is a buffer reused by the next call.
+        """
+        self.prepare(dt)
+        out = self._out
+        out[...] = self.X
+        src, n_src, factor, flags = self._no_src, 0, 1.0, None
+        if source is not None or deposit is not None:
             values, factor = (source, dt / self.rho_c) if source is not None else (deposit, 1.0 / self.rho_c)
-            src = self._src
-            scale_rows(values, factor, src, self._flags)
-            active = self._flags
-            active |= self.active
-        adiabatic_solve_batched(self.theta, src, self.mult, self.inv_bp, self.c, active, self._out)
-        return self._out
+            src = np.ascontiguousarray(np.asarray(values, float).T)
+            n_src = src.shape[0]
+            flags = np.any(src * factor != 0.0, axis=0)
+        scratch = np.empty(self.n_columns)  # the state's own sums and maxima are left alone
+        sweep_columns(out, self.q_lazy, self.unit_lazy, self.lazy, src, n_src, factor, self.rho_c, math.inf,
+                      self.weights, scratch, scratch.copy(), self.mult, self.inv_bp, self.c,
+                      self._idle(flags), self._idle_val, np.empty_like(self._sfx))
+        return out.T
 
     def affine(self, theta_ad: np.ndarray, q_in: np.ndarray) -> np.ndarray:
         """theta^{n+1} = theta_ad + q_in theta_unit (eq. 7.70); ``q_in`` (n_columns,) in W/m^2 entering."""
         return theta_ad + np.asarray(q_in, float)[:, None] * self.theta_unit[None, :]
 
     def commit(self, theta_new: np.ndarray, heated: np.ndarray | None = None) -> None:
-        """Store the new temperatures; ``heated`` marks the columns that received heat this step."""
-        self.theta[...] = theta_new
+        """Store the new temperatures (n_columns, n_nodes); ``heated`` marks the columns heated this step."""
+        self.theta = theta_new
         if heated is not None:
             self.active |= heated
 
-    def step(self, dt: float, q_in, source: np.ndarray | None = None) -> np.ndarray:
-        """One backward-Euler step with interface flux ``q_in`` (W/m^2 entering, per column); returns theta."""
+    def surface(self) -> np.ndarray:
+        """theta at z = 0 of every column (n_columns,), a new array (the state is left as it is)."""
+        return self.X[0] + self.q_lazy * self.unit_lazy[0] if self.lazy else self.X[0].copy()
+
+    def step(self, dt: float, q_in, source: np.ndarray | None = None) -> None:
+        """One backward-Euler step with interface flux ``q_in`` (W/m^2 entering, per column) and an optional
+        volumetric source (W/m^3, (n_columns, n_nodes)); the result is read through :attr:`theta`."""
         q = np.broadcast_to(np.asarray(q_in, float), (self.n_columns,))
-        theta_ad = self.adiabatic(dt, source)
-        new = self.affine(theta_ad, q)
         heated = q != 0.0
-        if source is not None:
+        if source is None:
+            self.advance(dt)
+        else:
+            src = np.ascontiguousarray(np.asarray(source, float).T)
+            factor = dt / self.rho_c
+            flags = np.any(src * factor != 0.0, axis=0)
+            self.advance(dt, src, src.shape[0], factor, src_flags=flags)
             heated = heated | np.any(source != 0.0, axis=1)
-        self.commit(new, heated)
-        return self.theta
+        self.set_flux(q)
+        self.active |= heated
 
     def heat_content(self) -> np.ndarray:
         """Stored heat per unit interface area, rho c sum_i w_i (theta_i - T0), J/m^2 (per column)."""
-        return self.rho_c * ((self.theta - self.T0) @ self.weights)
+        weighted_rise(self.X, self.q_lazy, self.unit_lazy, self.lazy, self.T0, self.weights, self._rise)
+        return self.rho_c * self._rise

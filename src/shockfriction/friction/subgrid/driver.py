@@ -140,8 +140,8 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
             if thermal:
                 q = share * flux[i]
                 columns.step(dt, q)
-                theta_s = columns.theta[:, 0]
-                if not np.all(np.isfinite(columns.theta)) or np.any(columns.theta >= mat.melting_temperature):
+                theta_s = columns.surface()
+                if columns.melt_index(mat.melting_temperature) >= 0:  # a node not finite or not below T_F
                     j = int(np.argmax(np.max(columns.theta, axis=1)))
                     hot = float(columns.theta[j].max())
                     raise SimulationError(f"{source}: column {names[j]!r} reached {hot:.6g} K "

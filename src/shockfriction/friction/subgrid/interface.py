@@ -65,8 +65,8 @@ heat_interface/beta_T + plastic_work and heat_stored = heat_interface + heat_pla
 beta_Q plastic_work = heat_plastic + plastic_heat_pending + melt_energy.
 ``lag_temperature`` (K, ch. 8) is the largest local temperature rise that the lagged plastic heat of
 this step will add in the next one: the size of the lag the thesis asks to check a posteriori (8.47).  Per-node profiles:
-``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a buffer that the next step
-replaces: copy it to keep it).
+``theta`` and ``eps_p`` shaped ``(n_columns, n_nodes)`` on ``z`` (``theta`` is a view of the columns' state,
+stored (n_nodes, n_columns) (docs/theory/subgrid-layout.md), that the next step overwrites: copy it to keep it).
 """
 
 from __future__ import annotations
@@ -76,11 +76,11 @@ import math
 import numpy as np
 
 from shockfriction.errors import SimulationError
-from shockfriction.friction.subgrid.column import ThermalColumns, affine_update, clip_deposit
+from shockfriction.friction.subgrid.column import ThermalColumns
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
-                                                           solve_thermoelastic)
-from shockfriction.friction.subgrid.thermoelastoplastic import (finish_plastic_step, row_integrals,
-                                                                 solve_thermoelastoplastic)
+                                                           book_step, first_nonfinite, solve_thermoelastic,
+                                                           step_inputs)
+from shockfriction.friction.subgrid.thermoelastoplastic import finish_plastic_step, solve_thermoelastoplastic
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
@@ -93,6 +93,12 @@ MELT_MARGIN = 1.0  # K: the lagged plastic heat never takes a column node above 
 
 def _material(m) -> Material:
     return get_material(m) if isinstance(m, str) else m
+
+
+def _per_node(x, n: int) -> np.ndarray:
+    """``x`` as a float array of shape (n,) (scalars broadcast, no copy)."""
+    a = np.asarray(x, float)
+    return a if a.shape == (n,) else np.broadcast_to(a, (n,))
 
 
 class SubgridInterface:
@@ -134,12 +140,13 @@ class SubgridInterface:
         n, nn = self.n_columns, self.columns.n_nodes
         self.eps_p = np.zeros((n, nn))
         self._hard = np.ones((n, nn))  # (1 + beta eps_p)^n
-        self._new = np.empty((n, nn))
-        self._pending_plastic_heat = np.zeros((n, nn))  # J/m^3, deposited next step (lagged source)
+        self._hard_blk = np.ones((n, (nn + 7) // 8))  # min_{i >= 8b} _hard[j, i]: the plastic-front bound uses it
+        # J/m^3, deposited next step (lagged source); (n_nodes, n_columns) like the temperatures it heats
+        self._pending_plastic_heat = np.zeros((nn, n))
+        self._pending_flags = np.zeros(n, dtype=np.bool_)  # column j has pending heat (a nonzero source)
         self._deps = np.zeros((n, nn))
         self._depth = np.full(n, nn, dtype=np.int64)  # plastic-front bound: _deps[j, _depth[j]:] == 0
-        self._pending_depth = np.full(n, nn, dtype=np.int64)  # _pending_plastic_heat[j, _pending_depth[j]:] == 0
-        self._deposited = np.zeros(n)
+        self._pending_depth = np.zeros(n, dtype=np.int64)  # _pending_plastic_heat[_pending_depth[j]:, j] == 0
         self._use_front = True  # skip the nodes proven elastic (False: visit all, for the tests)
         for name in NODE_DIAGNOSTICS:
             setattr(self, name, np.zeros(n))
@@ -148,6 +155,7 @@ class SubgridInterface:
         self._status = np.zeros(n, dtype=np.int64)
         self._theta_s = np.zeros(n)
         self._v_half = np.zeros(n)
+        self._k, self._tau_cap, self._F_N = np.zeros(n), np.zeros(n), np.zeros(n)
 
     def _init_viscoplastic(self, n, thickness, n_cells, grading, mu0, f, beta_Q, T0, opts):
         from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns
@@ -168,8 +176,9 @@ class SubgridInterface:
             setattr(self, name, np.zeros(n))
         self.theta_interface[:] = T0
         self.iterations = np.zeros(n, dtype=np.int64)
+        self._k, self._tau_cap, self._F_N = np.zeros(n), np.zeros(n), np.zeros(n)
         self.eps_p = np.zeros((n, self.vp.z.size))  # cell values on the node above (last node: last cell)
-        self._pending_plastic_heat = np.zeros((n, self.vp.z.size))  # no lagged heat: deposited in the same step
+        self._pending_plastic_heat = np.zeros((self.vp.z.size, n))  # no lagged heat: deposited in the same step
 
     def _step_viscoplastic(self, F_N, vf, vp, k, tau_cap, dt, when):
         c = self.vp
@@ -222,110 +231,81 @@ class SubgridInterface:
     @property
     def plastic_heat_pending(self) -> np.ndarray:
         """Plastic heat of the last step not yet deposited in the column (J/m^2)."""
-        return self._pending_plastic_heat @ self.columns.weights
+        return self.columns.weights @ self._pending_plastic_heat
 
     # ------------------------------------------------------------------ the step
     def step(self, sigma_n, v_free, slip_prev, m_slave, m_guide, area, dt: float, *,
              cycle: int | None = None, time: float | None = None):
         """Advance every column by ``dt``; return ``(tau, slip_corrected)`` (see module docstring)."""
         n = self.n_columns
-        shape = (n,)
-        sig = np.broadcast_to(np.asarray(sigma_n, float), shape)
-        vf = np.broadcast_to(np.asarray(v_free, float), shape)
-        vp = np.broadcast_to(np.asarray(slip_prev, float), shape)
-        ms = np.broadcast_to(np.asarray(m_slave, float), shape)
-        mg = np.broadcast_to(np.asarray(m_guide, float), shape)
-        S = np.broadcast_to(np.asarray(area, float), shape)
+        sig, vf, vp, ms, mg, S = (_per_node(x, n) for x in (sigma_n, v_free, slip_prev, m_slave, m_guide, area))
         dt = float(dt)
-        when = self._when(cycle, time)
         if not (dt > 0.0 and math.isfinite(dt)):
-            raise SimulationError(f"sub-grid step {when}: time step {dt!r} is not positive and finite")
-        bad = ~(np.isfinite(sig) & np.isfinite(vf) & np.isfinite(vp) & (ms > 0) & (mg > 0) & (S >= 0)
-                & np.isfinite(S) & ((S > 0) | (sig <= 0)))  # a node out of contact may have no area
-        if bad.any():
-            j = int(np.argmax(bad))
-            raise SimulationError(f"sub-grid step {when}: bad input at node {j}: sigma_n={float(sig[j]):.6g} Pa, "
+            raise SimulationError(f"sub-grid step {self._when(cycle, time)}: time step {dt!r} is not positive and finite")
+        k, tau_cap, F_N = self._k, self._tau_cap, self._F_N
+        j = step_inputs(sig, vf, vp, ms, mg, S, dt, self.mu0, k, self.tau_stick, tau_cap, self.tau_coulomb, F_N)
+        if j >= 0:  # a node out of contact may have no area
+            raise SimulationError(f"sub-grid step {self._when(cycle, time)}: bad input at node {j}: "
+                                  f"sigma_n={float(sig[j]):.6g} Pa, "
                                   f"v_free={float(vf[j]):.6g} m/s, slip_prev={float(vp[j]):.6g} m/s, "
                                   f"m_slave={float(ms[j]):.6g}, m_guide={float(mg[j]):.6g}, area={float(S[j]):.6g}")
-        inv_sum = 1.0 / ms + 1.0 / mg
-        k = S * dt * inv_sum  # slip change per unit friction stress
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tau_stick = np.where(inv_sum > 0.0, np.abs(vf) / np.where(k > 0.0, k, 1.0), np.inf)
-        tau_stick[vf == 0.0] = 0.0  # no free slip: no friction needed, none generated
-        in_contact = sig > 0.0
-        tau_cap = np.where(in_contact, np.minimum(self.mu0 * np.where(in_contact, sig, 0.0), tau_stick), 0.0)
-        self.tau_coulomb[:] = self.mu0 * np.where(in_contact, sig, 0.0)  # the caps, kept for branch tallies
-        self.tau_stick[:] = tau_stick
-        F_N = np.where(in_contact, sig, 0.0)
+        when = self._when(cycle, time)
         if self.model == "viscoplastic":
             return self._step_viscoplastic(F_N, vf, vp, k, tau_cap, dt, when)
 
         plastic = self.model == "thermoelastoplastic"
-        deposited = None
-        if plastic:  # J/m^2 of lagged plastic heat put in this step, after the melt guard
-            self.limit_plastic_heat()
-            deposited = self._deposited
-            row_integrals(self._pending_plastic_heat, self.columns.weights, self._pending_depth, deposited)
-        theta_ad = self.columns.adiabatic(dt, deposit=self._pending_plastic_heat if plastic else None)
-        unit = self.columns.theta_unit
+        cols = self.columns
+        T_F = self.material.melting_temperature
+        # Melt guard (thermoelastoplastic): the plastic heat of step n is deposited in step n + 1 (eq. 8.46);
+        # near melting that deposit alone can carry a node past T_F, where the model has no state (strength
+        # and friction vanish, no latent heat).  By the maximum principle of the backward-Euler solve,
+        # theta_ad <= max_i (theta_i + deposit_i/(rho c)), so each node's deposit is clipped to
+        # rho c (T_F - MELT_MARGIN - theta_i) in the forward sweep; the clipped energy (what melting would
+        # absorb) is added to melt_energy.
+        if plastic:
+            pend = self._pending_plastic_heat
+            X = cols.advance(dt, pend, int(self._pending_depth.max()), 1.0 / cols.rho_c, T_F - MELT_MARGIN,
+                             self._pending_flags)
+            self.melt_energy += cols._clipped
+            deposited = cols._deposited  # J/m^2 put in this step
+        else:
+            X = cols.advance(dt)
+        unit = cols.theta_unit
         tau = self.tau
         q_in = self.flux_in
         if self.model == "thermoelastic":
-            solve_thermoelastic(np.ascontiguousarray(theta_ad[:, 0]), unit[0], F_N, np.ascontiguousarray(vf),
+            solve_thermoelastic(X[0], unit[0], F_N, np.ascontiguousarray(vf),
                                 np.ascontiguousarray(vp), k, tau_cap, self.beta_T, self.f, self.scg, self.xtol,
                                 self.max_iter, self._theta_s, tau, self._v_half, self.slip_local, q_in,
                                 self.iterations, self._status)
             self.slip_plastic[:] = 0.0
         else:
-            solve_thermoelastoplastic(theta_ad, unit, self.columns.weights, self.eps_p, self._hard, F_N,
+            solve_thermoelastoplastic(X, cols._sfx, unit, cols.weights, self.eps_p, self._hard, self._hard_blk, F_N,
                                       np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T,
                                       self.f, self.scg, dt, self.xtol, self.max_iter, self._theta_s, tau,
                                       self._v_half, self.slip_local, self.slip_plastic, q_in, self._deps,
                                       self.iterations, self._status, self._depth, self._use_front)
         self._check(when)
         self._check_finite(when, plastic)
-        new = self._new
-        T_F = self.material.melting_temperature
-        bad = affine_update(theta_ad, q_in, unit, T_F, new)
+        cols.set_flux(q_in)  # theta = theta_ad + q_in theta_unit (eq. 7.70), applied by the next sweep
+        bad = cols.melt_index(T_F)
         if bad >= 0:
-            j, i = divmod(int(bad), new.shape[1])
-            raise SimulationError(f"sub-grid step {when}: column {j} reached {new[j, i]!r} K at z = {self.z[i]:.3e} m "
-                                  f"(melting {T_F} K)")
-        heated = (q_in != 0.0)
-        if plastic:
-            heated |= deposited != 0.0
-        self._new, self.columns.theta = self.columns.theta, new  # swap buffers instead of copying
-        self.columns.active |= heated
-        self.theta_interface[:] = new[:, 0]
+            j, i = divmod(int(bad), cols.n_nodes)
+            raise SimulationError(f"sub-grid step {when}: column {j} reached {X[i, j] + q_in[j] * unit[i]!r} K at "
+                                  f"z = {self.z[i]:.3e} m (melting {T_F} K)")
+        book_step(X[0], unit[0], q_in, tau, self._v_half, vp, dt, deposited if plastic else q_in, plastic, cols.active,
+                  self.theta_interface, self.slip_macro, self.friction_work, self.heat_interface, self.heat_plastic)
         v_half = self._v_half.copy()
-        self.slip_macro[:] = np.abs(0.5 * (v_half + vp))
-        self.friction_work += tau * self.slip_macro * dt
-        self.heat_interface += q_in * dt
         if plastic:
-            self.heat_plastic += deposited
-            finish_plastic_step(self.eps_p, self._deps, self._hard, self.scg, self._depth, tau, self.beta_Q * SQRT3,
-                                self.columns.weights, self._pending_plastic_heat, self._pending_depth,
-                                self.plastic_work, self.lag_temperature, self.columns.rho_c)
+            finish_plastic_step(self.eps_p, self._deps, self._hard, self._hard_blk, self.scg, self._depth, tau,
+                                self.beta_Q * SQRT3,
+                                cols.weights, self._pending_plastic_heat, self._pending_depth,
+                                self.plastic_work, self.lag_temperature, cols.rho_c, self._pending_flags)
             if not np.all(np.isfinite(self.plastic_work)):
                 j = int(np.argmax(~np.isfinite(self.plastic_work)))
                 raise SimulationError(f"sub-grid step {when}: node {j}: non-finite plastic strain increment "
                                       f"(interface {self.theta_interface[j]!r} K, tau = {tau[j]!r} Pa)")
         return tau.copy(), v_half
-
-    def limit_plastic_heat(self) -> None:
-        """Melt guard (thermoelastoplastic): clip the lagged plastic heat so that no column node exceeds
-        T_F - MELT_MARGIN in this step's adiabatic solve; the energy clipped off is added to ``melt_energy``.
-
-        The plastic heat of step n is deposited in step n + 1 (eq. 8.46); near melting that deposit
-        alone can carry a node past T_F, where the model has no state (strength and friction vanish,
-        no latent heat).  By the maximum principle of the backward-Euler solve, theta_ad <= max_i
-        (theta_i + deposit_i/(rho c)), so clipping each node's deposit to rho c (T_F - margin - theta_i)
-        keeps the column below melting; the clipped energy is what melting would absorb.  Called by
-        :meth:`step` (the uncoupled driver and the coupled slide line share it).
-        """
-        c = self.columns
-        clip_deposit(self._pending_plastic_heat, c.theta, c.rho_c, self.material.melting_temperature - MELT_MARGIN,
-                     c.weights, self.melt_energy)
 
     # ------------------------------------------------------------------ helpers
     @staticmethod
@@ -339,16 +319,13 @@ class SubgridInterface:
 
     def _check_finite(self, when: str, plastic: bool) -> None:
         """A step whose accepted state is not finite fails here, in that step (not as bad input in the next)."""
-        vals = (self._theta_s, self.tau, self._v_half, self.slip_local, self.flux_in)
-        if plastic:
-            vals += (self.slip_plastic,)
-        for arr in vals:
-            if not np.all(np.isfinite(arr)):
-                j = int(np.argmax(~np.isfinite(arr)))
-                raise SimulationError(f"sub-grid step {when}: node {j}: the interface solve returned a non-finite "
-                                      f"state (interface {self._theta_s[j]!r} K, tau = {self.tau[j]!r} Pa, "
-                                      f"local slip {self.slip_local[j]!r} m/s, plastic slip "
-                                      f"{self.slip_plastic[j]!r} m/s)")
+        vals = (self._theta_s, self.tau, self._v_half, self.slip_local, self.flux_in, self.slip_plastic)
+        k, j = first_nonfinite(vals if plastic else vals[:5])
+        if k >= 0:
+            raise SimulationError(f"sub-grid step {when}: node {j}: the interface solve returned a non-finite "
+                                  f"state (interface {self._theta_s[j]!r} K, tau = {self.tau[j]!r} Pa, "
+                                  f"local slip {self.slip_local[j]!r} m/s, plastic slip "
+                                  f"{self.slip_plastic[j]!r} m/s)")
 
     def _check(self, when: str) -> None:
         st = self._status
@@ -359,4 +336,4 @@ class SubgridInterface:
                 NO_CONVERGENCE: f"the interface root finder did not converge in {self.max_iter} iterations",
                 BAD_INPUT: "non-finite input"}.get(int(st[j]), f"status {int(st[j])}")
         raise SimulationError(f"sub-grid step {when}: node {j}: {what} "
-                              f"(theta_ad(0) = {self.columns.theta[j, 0]!r} K)")
+                              f"(theta_ad(0) = {self.columns.X[0, j]!r} K)")

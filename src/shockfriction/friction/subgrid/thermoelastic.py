@@ -41,6 +41,69 @@ OK, ABOVE_MELT, NO_CONVERGENCE, BAD_INPUT = 0, 1, 2, 3
 
 
 @njit(cache=True)
+def step_inputs(sig, vf, vp, ms, mg, S, dt, mu0, k, tau_stick, tau_cap, tau_coulomb, F_N):
+    """Per-node inputs of a step (see interface.py): k = S dt (1/m_s + 1/m_g) (eq. 7.99), the sticking cap
+    tau_stick = |[V*]|/k (0 without free slip, inf for two rigid partners), the Coulomb cap mu0 F_N and
+    tau_cap = min(mu0 F_N, tau_stick) in contact (F_N = sigma_n > 0), else 0.  Returns the first node
+    with bad input (non-finite, a mass <= 0, an area < 0 or 0 in contact), else -1, before writing."""
+    n = k.shape[0]
+    for j in range(n):
+        s, a = sig[j], S[j]
+        if not (math.isfinite(s) and math.isfinite(vf[j]) and math.isfinite(vp[j]) and ms[j] > 0.0 and mg[j] > 0.0
+                and a >= 0.0 and math.isfinite(a) and (a > 0.0 or s <= 0.0)):
+            return j
+    for j in range(n):
+        inv_sum = 1.0 / ms[j] + 1.0 / mg[j]
+        kj = S[j] * dt * inv_sum
+        k[j] = kj
+        v = vf[j]
+        ts = abs(v) / (kj if kj > 0.0 else 1.0) if inv_sum > 0.0 else math.inf
+        if v == 0.0:
+            ts = 0.0
+        tau_stick[j] = ts
+        s = sig[j]
+        fn = s if s > 0.0 else 0.0
+        c = mu0 * fn
+        tau_coulomb[j] = c
+        F_N[j] = fn
+        tau_cap[j] = (c if c <= ts else ts) if s > 0.0 else 0.0
+    return -1
+
+
+@njit(cache=True)
+def first_nonfinite(arrays):
+    """(k, j): the first non-finite value, in array k (the first such array) at node j; (-1, -1) if none."""
+    for k in range(len(arrays)):
+        a = arrays[k]
+        for j in range(a.shape[0]):
+            if not math.isfinite(a[j]):
+                return k, j
+    return -1, -1
+
+
+@njit(cache=True)
+def book_step(ad0, unit0, q_in, tau, v_half, v_prev, dt, deposited, plastic, active, theta_interface, slip_macro,
+              friction_work, heat_interface, heat_plastic):
+    """End of a step, per node: interface temperature theta_ad(0) + q_in a0 (eq. 7.70), |[V]^n| =
+    |([V]^{n+1/2} + [V]^{n-1/2})/2| (eq. 7.100), the energy sums (friction work tau |[V]^n| dt, interface
+    heat q_in dt, deposited plastic heat) and ``active`` |= heated this step."""
+    for j in range(q_in.shape[0]):
+        q = q_in[j]
+        heated = q != 0.0
+        if plastic:
+            d = deposited[j]
+            heat_plastic[j] += d
+            heated = heated or d != 0.0
+        if heated:
+            active[j] = True
+        theta_interface[j] = ad0[j] + q * unit0
+        sm = abs(0.5 * (v_half[j] + v_prev[j]))
+        slip_macro[j] = sm
+        friction_work[j] += tau[j] * sm * dt
+        heat_interface[j] += q * dt
+
+
+@njit(cache=True)
 def tresca_stress(F_N, theta, f, p):
     """SCG ("Tresca") branch of eq. 7.12: f Ymax/sqrt(3) G(F_N, Theta)/G0 (0 at or above T_F)."""
     return f * p[I_YMAX] / SQRT3 * scg_shear_ratio(F_N, theta, p[I_G], p[I_H], p[I_XI], p[I_TF])

@@ -88,9 +88,10 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
                 th_max = th
         if th_max >= T_F:
             return -1.0
+    if m == 0:
+        return 0.0
     e_min = math.exp(-xi * th_max / (T_F - th_max))
     s = SQRT3 * tau / Y0
-    x_big = math.exp(n * LOG_TARGET_MAX)  # x beyond which x^(1/n) is replaced by exp(LOG_TARGET_MAX)
     lin0 = 1.0 + g * F_N + h * 300.0
     integral = 0.0
     for i in range(m):
@@ -104,7 +105,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
         x = s / r
         if x <= hard[i]:
             continue
-        if x < x_big:
+        if x < math.exp(n * LOG_TARGET_MAX):  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
             d = (x ** (1.0 / n) - 1.0) / beta - eps_prev[i]
         else:
             d = TARGET_MAX / beta
@@ -119,29 +120,105 @@ FRONT_MARGIN = 1e-9
 
 
 @njit(cache=True)
-def plastic_depth(tau_max, F_N, q_hi, ad_suffix_max, unit_suffix_max, hard_suffix_min, p):
+def suffix_max(ad, blk, m):
+    """max_{i >= m} ad[i] from the block suffix maxima blk[b] = max_{i >= 8b} ad[i] (m < len(ad))."""
+    nn = ad.shape[0]
+    b = (m + 7) // 8
+    e = 8 * b
+    top = -math.inf
+    if e < nn:
+        top = blk[b]
+    else:
+        e = nn
+    for i in range(m, e):
+        if ad[i] > top:
+            top = ad[i]
+    return top
+
+
+@njit(cache=True)
+def suffix_min(values, blk, m):
+    """min_{i >= m} values[i] from the block suffix minima blk[b] = min_{i >= 8b} values[i] (m < len(values))."""
+    nn = values.shape[0]
+    b = (m + 7) // 8
+    e = 8 * b
+    low = math.inf
+    if e < nn:
+        low = blk[b]
+    else:
+        e = nn
+    for i in range(m, e):
+        if values[i] < low:
+            low = values[i]
+    return low
+
+
+@njit(cache=True)
+def block_suffix_min(values, blk, top):
+    """blk[b] = min_{i >= 8b} values[i] for the blocks b <= top (those below already hold theirs)."""
+    nn = values.shape[0]
+    nb = blk.shape[0]
+    for b in range(min(top, nb - 1), -1, -1):
+        low = blk[b + 1] if b + 1 < nb else math.inf
+        for i in range(8 * b, min(8 * b + 8, nn)):
+            if values[i] < low:
+                low = values[i]
+        blk[b] = low
+
+
+@njit(cache=True)
+def _front_ok(m, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
+    """Every node i >= m elastic: G(C_m)/G0 H_m > s (see :func:`plastic_depth`)."""
+    c = suffix_max(ad, ad_blk, m) + q_hi * unit_suffix_max[m]
+    if not c < T_F:
+        return False
+    r = (1.0 + g * F_N - h * (c - 300.0)) * math.exp(-xi * c / (T_F - c))
+    return r > 0.0 and r * suffix_min(hard, hard_blk, m) > s
+
+
+@njit(cache=True)
+def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, p, guess=-1):
     """Smallest m such that every node i >= m stays elastic for any tau <= ``tau_max`` and q in [0, q_hi].
 
-    For i >= m: theta_i <= C_m = ad_suffix_max[m] + q_hi unit_suffix_max[m] and hard_i >= H_m, and
-    G/G0 (1 + g F_N - h (T - 300)) exp(-xi T/(T_F - T)) decreases with T (h, xi >= 0), so
-    G_i/G0 hard_i >= G(C_m)/G0 H_m.  If that exceeds sqrt(3) tau_max/Y0 (with a margin) no node
-    beyond m flows (eq. 8.42 gives d_eps = 0).  The bound is monotone in m (C_m falls, H_m rises),
-    so m is found by bisection.  Returns n_nodes when no bound applies.
+    For i >= m: theta_i <= C_m = max_{k >= m} ad_k + q_hi unit_suffix_max[m] and hard_i >= H_m =
+    min_{k >= m} hard_k, and G/G0 (1 + g F_N - h (T - 300)) exp(-xi T/(T_F - T)) decreases with T
+    (h, xi >= 0), so G_i/G0 hard_i >= G(C_m)/G0 H_m.  If that exceeds sqrt(3) tau_max/Y0 (with a
+    margin) no node beyond m flows (eq. 8.42 gives d_eps = 0).  The bound is monotone in m (C_m falls,
+    H_m rises), so m is found by bisection, started by galloping from ``guess`` (the last step's bound)
+    when one is given.  ``ad`` is the column's theta_ad, ``ad_blk[b]`` its suffix maximum from node 8b,
+    ``hard`` its (1 + beta eps)^n and ``hard_blk[b]`` their suffix minimum from node 8b.  Returns
+    n_nodes when no bound applies.
     """
-    nn = ad_suffix_max.shape[0]
+    nn = ad.shape[0]
     Y0, g, h, xi, T_F = p[I_Y0], p[I_G], p[I_H], p[I_XI], p[I_TF]
     if not (h >= 0.0 and xi >= 0.0 and math.isfinite(q_hi) and q_hi >= 0.0 and tau_max >= 0.0):
         return nn
     s = SQRT3 * tau_max / Y0 * (1.0 + FRONT_MARGIN)
     lo, hi = 0, nn  # the answer lies in [lo, hi]; m = nn always holds
+    if 0 <= guess < nn:
+        step = 1
+        if _front_ok(guess, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
+            hi = guess
+            while hi > lo:
+                m = max(hi - step, lo)
+                if _front_ok(m, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
+                    hi = m
+                    step *= 2
+                else:
+                    lo = m + 1
+                    break
+        else:
+            lo = guess + 1
+            while lo < hi:
+                m = min(lo + step - 1, hi - 1)
+                if _front_ok(m, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
+                    hi = m
+                    break
+                lo = m + 1
+                step *= 2
     while lo < hi:
         mid = (lo + hi) // 2
-        c = ad_suffix_max[mid] + q_hi * unit_suffix_max[mid]
-        ok = False
-        if c < T_F:
-            r = (1.0 + g * F_N - h * (c - 300.0)) * math.exp(-xi * c / (T_F - c))
-            ok = r > 0.0 and r * hard_suffix_min[mid] > s
-        if ok:
+        if _front_ok(mid, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
             hi = mid
         else:
             lo = mid + 1
@@ -149,50 +226,48 @@ def plastic_depth(tau_max, F_N, q_hi, ad_suffix_max, unit_suffix_max, hard_suffi
 
 
 @njit(cache=True)
-def finish_plastic_step(eps, deps, hard, p, depth, tau, heat_factor, weights, pending, pending_depth, plastic_work,
-                        lag, rho_c):
+def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, weights, pending, pending_depth,
+                        plastic_work, lag, rho_c, flags):
     """After the accepted solve, one pass over the yielded layer of every column (nodes below depth[j]):
-    eps += deps, hard = (1 + beta eps)^n; plastic work += sqrt(3) tau
+    eps += deps, hard = (1 + beta eps)^n (and hard_blk, its block suffix minima); plastic work += sqrt(3) tau
     sum_i w_i d_eps_i; pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3),
-    deposited next step, eq. 8.46), zero below; lag = max pending/(rho c).  ``pending_depth[j]``
-    (in/out) bounds the nonzero pending heat of each row (n_nodes is always safe).
+    deposited next step, eq. 8.46), zero below; lag = max pending/(rho c); flags[j] = some pending
+    heat of column j is a nonzero temperature.  ``pending`` is (n_nodes, n_columns), the rest per column;
+    ``pending_depth[j]`` (in/out) bounds the nonzero pending heat of each column (n_nodes is always safe).
     """
     beta, n = p[I_BETA], p[I_N]
     nn = eps.shape[1]
+    inv_rho_c = 1.0 / rho_c
     for j in range(eps.shape[0]):
         m = depth[j] if 0 <= depth[j] <= nn else nn
         old = pending_depth[j] if 0 <= pending_depth[j] <= nn else nn
         c = heat_factor * tau[j]
         work = 0.0
         top = 0.0
+        flag = False
+        top_changed = -1  # deepest node whose hardening changed
         for i in range(m):
             d = deps[j, i]
             if d > 0.0:
                 e = eps[j, i] + d
                 eps[j, i] = e
                 hard[j, i] = (1.0 + beta * e) ** n
+                top_changed = i
             work += weights[i] * d
             h = c * d
-            pending[j, i] = h
+            pending[i, j] = h
+            if h * inv_rho_c != 0.0:
+                flag = True
             if h > top:
                 top = h
         for i in range(m, old):
-            pending[j, i] = 0.0
+            pending[i, j] = 0.0
+        if top_changed >= 0:
+            block_suffix_min(hard[j], hard_blk[j], top_changed // 8)
         pending_depth[j] = m
+        flags[j] = flag
         plastic_work[j] += SQRT3 * tau[j] * work
         lag[j] = top / rho_c
-
-
-@njit(cache=True)
-def row_integrals(values, weights, depth, out):
-    """out[j] = sum_{i < depth[j]} w_i values[j, i] (rows zero from depth[j] on)."""
-    nn = values.shape[1]
-    for j in range(values.shape[0]):
-        m = depth[j] if 0 <= depth[j] <= nn else nn
-        acc = 0.0
-        for i in range(m):
-            acc += weights[i] * values[j, i]
-        out[j] = acc
 
 
 @njit(cache=True)
@@ -221,11 +296,14 @@ def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, 
 
 
 @njit(cache=True)
-def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N, v_free, v_prev, k, tau_cap,
-                              beta_T, f, p, dt, xtol, max_iter,
+def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev,
+                              k, tau_cap, beta_T, f, p, dt, xtol, max_iter,
                               theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status, depth,
                               use_front=True):
-    """Per-column interface solve with plasticity (Algorithm 2).  2D arrays are (n_columns, n_nodes).
+    """Per-column interface solve with plasticity (Algorithm 2).  ``theta_ad`` is (n_nodes, n_columns)
+    (the thermal layout, read here only above the plastic front) with ``ad_blk[b, j]`` = max_{i >= 8b}
+    theta_ad[i, j] (from the sweep); ``eps_prev``, ``hard`` and ``deps`` are (n_columns, n_nodes), ``hard_blk``
+    (n_columns, n_blocks) the block suffix minima of ``hard``.
 
     Outputs: theta_s, tau, v_half = [V]^{n+1/2}, v_local = [v]^n, plastic_rate (m/s),
     q_in = beta_T tau [v] (W/m^2), deps (plastic strain increments), iters, status.
@@ -240,8 +318,6 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
     a0 = theta_unit[0]
     nn = theta_unit.shape[0]
     unit_sfx = np.empty(nn)  # suffix maxima of max(theta_unit, 0): the same for every column
-    ad_sfx = np.empty(nn)
-    hard_sfx = np.empty(nn)
     run = 0.0
     for i in range(nn - 1, -1, -1):
         if theta_unit[i] > run:
@@ -251,10 +327,11 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
     for i in range(nn):
         if theta_unit[i] > unit_max:
             unit_max = theta_unit[i]
-    for j in range(theta_ad.shape[0]):
+    for j in range(theta_ad.shape[1]):
         iters[j] = 0
         status[j] = OK
-        row = theta_ad[j]
+        row = theta_ad[:, j]
+        blk = ad_blk[:, j]
         hrow = hard[j]
         t_ad = row[0]
         if not (math.isfinite(t_ad) and math.isfinite(F_N[j]) and math.isfinite(v_free[j])
@@ -263,11 +340,8 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
             continue
         # theta >= t_ad in the bracket and tau(theta) falls with theta: tau <= its value at t_ad
         tau_max = friction_stress(F_N[j], t_ad, tau_cap[j], f, p)
+        ad_max = blk[0]
         if use_front and tau_max <= 0.0:  # no friction at any trial temperature: nothing flows, R(lo) = 0
-            ad_max = -math.inf
-            for i in range(nn):
-                if row[i] > ad_max:
-                    ad_max = row[i]
             if ad_max >= T_F:
                 status[j] = ABOVE_MELT
                 continue
@@ -275,32 +349,23 @@ def solve_thermoelastoplastic(theta_ad, theta_unit, weights, eps_prev, hard, F_N
             q_hi = 0.0
             m = 0
         else:
-            ad_run = -math.inf
-            hard_run = math.inf
-            for i in range(nn - 1, -1, -1):
-                if row[i] > ad_run:
-                    ad_run = row[i]
-                ad_sfx[i] = ad_run
-                if hrow[i] < hard_run:
-                    hard_run = hrow[i]
-                hard_sfx[i] = hard_run
-            if ad_run >= T_F:
+            if ad_max >= T_F:
                 status[j] = ABOVE_MELT
                 continue
-            ad_max = ad_run
             # q_max = min_i (T_F - theta_ad_i)/theta_unit_i; every 8 nodes, stop once the rest cannot go lower:
-            # (T_F - ad_sfx[i])/unit_sfx[i] bounds all later quotients from below (rounding is monotone)
+            # (T_F - max_{k >= i} theta_ad_k)/unit_sfx[i] bounds all later quotients from below (rounding is monotone)
             q_max = math.inf
             for i in range(nn):
                 if i % 8 == 0 and i > 0:
-                    if unit_sfx[i] <= 0.0 or (T_F - ad_sfx[i]) / unit_sfx[i] >= q_max:
+                    if unit_sfx[i] <= 0.0 or (T_F - blk[i // 8]) / unit_sfx[i] >= q_max:
                         break
                 if theta_unit[i] > 0.0:
                     qi = (T_F - row[i]) / theta_unit[i]
                     if qi < q_max:
                         q_max = qi
             q_hi = q_max * (1.0 + 1e-12)
-            m = plastic_depth(tau_max, F_N[j], q_hi, ad_sfx, unit_sfx, hard_sfx, p) if use_front else nn
+            m = plastic_depth(tau_max, F_N[j], q_hi, row, blk, unit_sfx, hrow, hard_blk[j], p, depth[j]) \
+                if use_front else nn
         drow = deps[j]
         old = depth[j] if 0 <= depth[j] <= nn else nn
         for i in range(m, old):
