@@ -35,7 +35,7 @@ import numpy as np
 
 from shockfriction.errors import DeckError
 
-FORMAT = 1
+FORMAT = 2  # 2: sub-grid column state stored column-innermost (0.3.0); a format-1 checkpoint is refused
 CHECKPOINT = "checkpoint.h5"
 # the objects a checkpoint walks into, by class name and attribute
 CHILDREN = {
