@@ -453,7 +453,7 @@ def internal_energy(e, e_el, cmass):
 
 def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
-                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv):
+                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, trd_c):
     """The cycle's cell pass (step 6): advance every cell from t^n to t^{n+1}.
 
     Per cell: volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation and radial
@@ -686,25 +686,40 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         p[c] = p1
         q[c] = qn
         temp[c] = t1
-        # ---- moduli, flow stress and sound speed at n+1
-        c2 = sound_speed2_ab(rho1, p1, ekind, c0, b, da)
-        if failed:
+        # ---- kept for the second loop: bulk c^2, hardening h, CFL length, tr D
+        cs[c] = sound_speed2_ab(rho1, p1, ekind, c0, b, da)
+        if skind != STRENGTH_NONE and skind != STRENGTH_EPP and not failed:
+            yld[c] = hnew  # (SCG) times G(P, T)/G0 below
+        dtcell[c] = area1 / dmax
+        trd_c[c] = trd
+    if bad < nc:
+        return 0.0, bad, errcell[bad]
+    # second loop (short, independent chains per cell): moduli, flow stress, sound speed at n+1
+    # and the stable time step of the cell
+    for c in prange(nc):
+        m = mat[c]
+        skind = props[m, P_STRENGTH]
+        sg0 = props[m, P_G0]
+        c2 = cs[c]
+        rho1 = rho[c]
+        if dmg[c] >= 1.0:  # failed
             shear[c] = 0.0
             yld[c] = 0.0
         elif skind == STRENGTH_EPP:
             shear[c] = sg0
-            yld[c] = y_epp
+            yld[c] = props[m, P_Y0]
             c2 += 4.0 * sg0 / (3.0 * rho1)
         elif skind != STRENGTH_NONE:
-            ratio1 = scg_shear_ratio(p1, t1, sgp, sht, sxi, stf)
+            ratio1 = scg_shear_ratio(p[c], temp[c], props[m, P_SCG + I_G], props[m, P_SCG + I_H],
+                                     props[m, P_SCG + I_XI], props[m, P_SCG + I_TF])
             shear[c] = sg0 * ratio1
-            yld[c] = hnew * ratio1
-            gpred = sg0 if (gconst != 0.0 and ratio1 > 0.0) else sg0 * ratio1
+            yld[c] = yld[c] * ratio1
+            gpred = sg0 if (props[m, P_G_CONST] != 0.0 and ratio1 > 0.0) else sg0 * ratio1
             c2 += 4.0 * gpred / (3.0 * rho1)
         c1 = math.sqrt(c2)
         cs[c] = c1
-        # ---- stable time step of the cell
-        lcfl = area1 / dmax
+        lcfl = dtcell[c]
+        trd = trd_c[c]
         aq = 0.0
         if trd < 0.0:
             aq = cq * cq * lcfl * (-trd) + cl * c1
@@ -715,8 +730,6 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 dtc = dvl
         dtcell[c] = dtc
         dtmin = min(dtmin, dtc)
-    if bad < nc:
-        return 0.0, bad, errcell[bad]
     return dtmin, -1, ERR_NONE
 
 
