@@ -109,7 +109,7 @@ class Simulation:
         self._corner = np.zeros((nc, 8))
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
-        self._trd = np.empty(nc)
+        self._cell_work = np.empty((4, nc))  # per-cell values handed between the cell update's loops
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
             numba.set_num_threads(self.threads)
@@ -296,7 +296,7 @@ class Simulation:
             s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
             s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
             self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
-            self._vx_old, self._vy_old, s.dt_velocity, self._trd)
+            self._vx_old, self._vy_old, s.dt_velocity, self._cell_work)
         if bad >= 0:
             self._fail(bad, code)
         s.t += dt

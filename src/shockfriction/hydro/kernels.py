@@ -453,7 +453,7 @@ def internal_energy(e, e_el, cmass):
 
 def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
-                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, trd_c):
+                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work):
     """The cycle's cell pass (step 6): advance every cell from t^n to t^{n+1}.
 
     Per cell: volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation and radial
@@ -623,11 +623,35 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                     if lq > dmax:
                         lq = dmax
             qn = rhoh * (cq * cq * lq * lq * trd * trd - cl * cs[c] * lq * trd)
+        # ---- kept for the next loops: dv, e~, q^n (mid-step), tr D, CFL length, hardening h
+        vol[c] = v1
+        rho[c] = rho1
+        work[1, c] = (v1 - v0) / cmass[c]
+        work[2, c] = e[c] + heat
+        work[3, c] = 0.5 * (q[c] + qn)
+        q[c] = qn
+        work[0, c] = trd
+        dtcell[c] = area1 / dmax
+        if skind != STRENGTH_NONE and skind != STRENGTH_EPP and not failed:
+            yld[c] = hnew  # (SCG) times G(P, T)/G0 in the last loop
+    if bad < nc:
+        return 0.0, bad, errcell[bad]
+    # second loop: energy and pressure, spall, temperature, bulk sound speed
+    for c in prange(nc):
+        m = mat[c]
+        ekind = props[m, P_EOS]
+        rho0 = props[m, P_RHO0]
+        c0 = props[m, P_C0]
+        s_ = props[m, P_S]
+        g0 = props[m, P_GAMMA0]
+        gam = props[m, P_GAMMA]
+        failed = dmg[c] >= 1.0
+        rho1 = rho[c]
+        dv = work[1, c]
+        et = work[2, c]
+        qmid = work[3, c]
         # ---- energy and pressure (thesis eq. 3.18 with errata), q time-centred as the forces see it:
         # e1 = e~ - ((P^n + q^{n-1/2}) + (P^{n+1} + q^{n+1/2}))/2 dv
-        dv = (v1 - v0) / cmass[c]
-        et = e[c] + heat
-        qmid = 0.5 * (q[c] + qn)
         a, b, da = eos_ab_s(rho1, ekind, rho0, c0, s_, g0, gam)
         e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
         p1 = a + b * e1
@@ -680,22 +704,13 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 wt = f - k
                 es = (1.0 - wt) * table[m, k] + wt * table[m, k + 1]
             t1 = props[m, P_T0] + (e1 - es) / cv
-        vol[c] = v1
-        rho[c] = rho1
         e[c] = e1
         p[c] = p1
-        q[c] = qn
         temp[c] = t1
-        # ---- kept for the second loop: bulk c^2, hardening h, CFL length, tr D
-        cs[c] = sound_speed2_ab(rho1, p1, ekind, c0, b, da)
-        if skind != STRENGTH_NONE and skind != STRENGTH_EPP and not failed:
-            yld[c] = hnew  # (SCG) times G(P, T)/G0 below
-        dtcell[c] = area1 / dmax
-        trd_c[c] = trd
+        cs[c] = sound_speed2_ab(rho1, p1, ekind, c0, b, da)  # bulk c^2, the last loop adds the shear part
     if bad < nc:
         return 0.0, bad, errcell[bad]
-    # second loop (short, independent chains per cell): moduli, flow stress, sound speed at n+1
-    # and the stable time step of the cell
+    # last loop: moduli, flow stress, sound speed at n+1 and the stable time step of the cell
     for c in prange(nc):
         m = mat[c]
         skind = props[m, P_STRENGTH]
@@ -719,7 +734,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         c1 = math.sqrt(c2)
         cs[c] = c1
         lcfl = dtcell[c]
-        trd = trd_c[c]
+        trd = work[0, c]
         aq = 0.0
         if trd < 0.0:
             aq = cq * cq * lcfl * (-trd) + cl * c1
