@@ -20,7 +20,8 @@ def _forces(vx, vy, axi=False, elastic_only=False, sxx=0.0, yld=1e9):
         *b, vol = bvec_axi(*X, *Y)
     else:
         b, vol = list(bvec_planar(*X, *Y)[:8]) + [0.0] * 4, area
-    on, *f = shear_viscosity_forces(26e9, 2700.0, sxx, 0.0, 0.0, yld, elastic_only, 0.15, 1.0, area, vol, *b,
+    on, *f = shear_viscosity_forces(26e9, 2700.0, sxx, 0.0, 0.0, yld, elastic_only, 0.15, 1.0, area, vol, 1.0 / vol,
+                                    np.sqrt(area), *b,
                                     *vx, *vy)
     f = np.array(f)
     assert on == bool(np.any(f != 0.0))

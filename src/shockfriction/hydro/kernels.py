@@ -142,6 +142,12 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
             bx0, bx1, bx2, bx3, by0, by1, by2, by3 = pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3
             h0 = h1 = h2 = h3 = 0.0
             vol = area
+        # 1/area and sqrt(area): hourglass and shear viscosity
+        inva = 1.0
+        sqa = 0.0
+        if area > 0.0:
+            inva = 1.0 / area
+            sqa = math.sqrt(area)
         ptot = p[c] + q[c]
         s_xx = sxx[c]
         s_yy = syy[c]
@@ -164,15 +170,14 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
             # Flanagan-Belytschko viscous hourglass: gamma = Gamma - (Gamma.x) b_x/A - (Gamma.y) b_y/A
             gx = x0 - x1 + x2 - x3
             gy = y0 - y1 + y2 - y3
-            inv = 1.0 / area
-            gam0 = 1.0 - (gx * pbx0 + gy * pby0) * inv
-            gam1 = -1.0 - (gx * pbx1 + gy * pby1) * inv
-            gam2 = 1.0 - (gx * pbx2 + gy * pby2) * inv
-            gam3 = -1.0 - (gx * pbx3 + gy * pby3) * inv
+            gam0 = 1.0 - (gx * pbx0 + gy * pby0) * inva
+            gam1 = -1.0 - (gx * pbx1 + gy * pby1) * inva
+            gam2 = 1.0 - (gx * pbx2 + gy * pby2) * inva
+            gam3 = -1.0 - (gx * pbx3 + gy * pby3) * inva
             hu = gam0 * u0 + gam1 * u1 + gam2 * u2 + gam3 * u3
             hv = gam0 * w0 + gam1 * w1 + gam2 * w2 + gam3 * w3
             w = 0.25 * (x0 + x1 + x2 + x3) if axi else 1.0
-            coef = 0.25 * hg * rho[c] * cs[c] * math.sqrt(area) * w
+            coef = 0.25 * hg * rho[c] * cs[c] * sqa * w
             vf0 -= coef * gam0 * hu
             vf1 -= coef * gam1 * hu
             vf2 -= coef * gam2 * hu
@@ -215,8 +220,9 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
         g2 += vg2
         g3 += vg3
         if svisc:
+            invv = (1.0 / vol if vol > 0.0 else 1.0) if axi else inva
             on, sf0, sf1, sf2, sf3, sg0, sg1, sg2, sg3 = shear_viscosity_forces(
-                shear[c], rho[c], s_xx, s_yy, a_xy, yld[c], elastic_only, scl, scq, area, vol,
+                shear[c], rho[c], s_xx, s_yy, a_xy, yld[c], elastic_only, scl, scq, area, vol, invv, sqa,
                 bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, u0, u1, u2, u3, w0, w1, w2, w3)
             if on:
                 f0 += sf0

@@ -32,14 +32,15 @@ from numba import njit
 
 
 @njit(cache=True)
-def shear_viscosity_forces(g, r, s_xx, s_yy, s_xy, yld, elastic_only, cl, cq, area, vol,
+def shear_viscosity_forces(g, r, s_xx, s_yy, s_xy, yld, elastic_only, cl, cq, area, vol, inv, lq,
                            bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3,
                            u0, u1, u2, u3, w0, w1, w2, w3):
     """Corner forces F_i = -Q b_i of one cell's shear viscosity Q = 2 eta D' (module docstring):
     (active, fx0..fx3, fy0..fy3), active = False and zero forces where Q = 0.
 
     ``g`` the cell's shear modulus, ``r`` its density, (s_xx, s_yy, s_xy) its deviator, ``yld``
-    its flow stress; ``area`` the plane area, ``vol`` the volume (= area in plane strain), b_i and
+    its flow stress; ``area`` the plane area, ``vol`` the volume (= area in plane strain), ``inv`` =
+    1/vol and ``lq`` = sqrt(area) (the caller has them; any value where area or vol <= 0), b_i and
     h_i the cell's gradient vectors at x^n and (u_i, w_i) the node velocities v^{n-1/2}."""
     if g <= 0.0:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -50,7 +51,6 @@ def shear_viscosity_forces(g, r, s_xx, s_yy, s_xy, yld, elastic_only, cl, cq, ar
             return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if not (vol > 0.0 and area > 0.0):
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    inv = 1.0 / vol
     dxx = (bx0 * u0 + bx1 * u1 + bx2 * u2 + bx3 * u3) * inv
     dyy = (by0 * w0 + by1 * w1 + by2 * w2 + by3 * w3) * inv
     dtt = (h0 * u0 + h1 * u1 + h2 * u2 + h3 * u3) * inv
@@ -73,7 +73,6 @@ def shear_viscosity_forces(g, r, s_xx, s_yy, s_xy, yld, elastic_only, cl, cq, ar
     rate = math.sqrt(2.0 * (exx * exx + eyy * eyy + ett * ett + 2.0 * dxy * dxy))
     if rate == 0.0:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    lq = math.sqrt(area)
     eta = phi * r * lq * (cl * math.sqrt(g / r) + cq * cq * lq * rate)
     qxx = 2.0 * eta * exx
     qyy = 2.0 * eta * eyy
