@@ -2,7 +2,8 @@
 
 One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 
-1. nodal forces F^n from sigma^n at x^n (+ hourglass and edge viscosity on v^{n-1/2});
+1. nodal forces F^n from sigma^n at x^n (+ hourglass, edge and shear viscosity on v^{n-1/2}),
+   one pass over the cells (:func:`~shockfriction.hydro.kernels.cell_forces_serial`);
 2. node groups (ties, periodic sides) share their summed force;
 3. free velocities v* = v^{n-1/2} + dt^n F/m, boundary constraints applied;
 4. **interface hook**: every registered interface object's
@@ -21,8 +22,12 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    constrained components, moves x^n by them and books -sum F.dx as
    ``state.energy.projection_work`` (part of ``contact_work``);
 5. positions x^{n+1} = x^n + dt^{n+1/2} v^{n+1/2};
-6. cells: density, strain rate, stress, viscosity, energy, EOS, temperature and
-   the next stable time step.
+6. cells: the viscous forces' heat of step 3-4, density, strain rate, stress, viscosity,
+   energy, EOS, temperature and the next stable time step, one call
+   (:func:`~shockfriction.hydro.kernels.update_cells_serial`).  On a cycle that writes a
+   history row the viscous heat goes into the cells before the row instead (the row and the
+   probes see it at t^n), so the state is the same either way; the energy sums are taken only
+   for a row (docs/theory/fused-cycle.md).
 
 Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
 leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/hydrocode.md, sec. 5).

@@ -1,21 +1,24 @@
-"""The numba kernels of one Wilkins cycle (thesis Fig. 3.7, errata resolved).
+"""The numba kernels of one Wilkins cycle (thesis Fig. 3.7, errata resolved), fused into
+two passes over the cells and two over the nodes (docs/theory/fused-cycle.md).
 
-* :func:`corner_forces_serial` / :func:`corner_forces_parallel` then
-  :func:`scatter_forces` / :func:`gather_forces`: nodal forces F^n from the cell
-  stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the velocity-dependent
-  forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge viscosity),
-  kept apart for :func:`viscous_heat_serial` / ``_parallel``, which puts the kinetic
-  energy they remove over the step into the cells.
+* :func:`cell_forces_serial` / :func:`cell_forces_parallel` (the force pass): nodal forces
+  F^n from the cell stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the
+  velocity-dependent forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge
+  viscosity, optional shear viscosity), summed into the nodes in the same loop (serial) or
+  by :func:`gather_forces` (parallel, race-free); the velocity-dependent part is kept per
+  corner for the viscous heat, the kinetic energy those forces remove over the step, put
+  into the cells by :func:`viscous_cell_heat` (in the cell update, or in
+  :func:`viscous_heat_serial` / ``_parallel`` on the cycles that write a history row).
 * :func:`sum_groups` / :func:`sync_groups`: node groups (ties, periodic sides).
 * :func:`advance_velocities`: v* = v^{n-1/2} + dt F/m.
 * :func:`apply_constraints`: v <- v - (v.n - value) n per constraint.
 * :func:`impulse_work`: the kinetic energy that velocity jumps (constraints,
   interfaces) put into the leapfrog kinetic energy.
 * :func:`move_nodes`: x^{n+1} = x^n + dt v^{n+1/2}.
-* :func:`update_cells_serial` / :func:`update_cells_parallel`: per cell, volume and
-  density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
-  artificial viscosity q^{n+1/2}, energy update with the EOS, temperature,
-  sound speed and the cell's stable time step; :func:`reduce_time_step`.
+* :func:`update_cells_serial` / :func:`update_cells_parallel` (the cell pass): per cell,
+  volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
+  artificial viscosity q^{n+1/2}, energy update with the EOS, spall, temperature, moduli,
+  sound speed and the cell's stable time step, reduced to the step of the cycle.
 
 The serial and parallel variants are the same Python function compiled twice
 (``prange`` is ``range`` without ``parallel=True``); per-cell helpers take and return
