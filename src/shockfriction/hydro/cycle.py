@@ -114,7 +114,7 @@ class Simulation:
         self._corner = np.zeros((nc, 8))
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
-        self._cell_work = np.empty((4, nc))  # per-cell values handed between the cell update's loops
+        self._cell_work = np.empty((10, nc))  # per-cell values handed between the cell update's loops
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
             numba.set_num_threads(self.threads)

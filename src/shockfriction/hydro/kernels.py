@@ -482,7 +482,6 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         dtcell[c] = 1e300
         if heat_now:
             e[c] += viscous_cell_heat(conn, vcorner, vx_old, vy_old, vx, vy, dtv, c) / cmass[c]
-        m = mat[c]
         n0 = conn[c, 0]
         n1 = conn[c, 1]
         n2 = conn[c, 2]
@@ -547,13 +546,63 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         v0 = vol[c]
         rho1 = cmass[c] / v1
         rhoh = cmass[c] / vh
-        # ---- material parameters
-        ekind = props[m, P_EOS]
-        rho0 = props[m, P_RHO0]
-        c0 = props[m, P_C0]
-        s_ = props[m, P_S]
-        g0 = props[m, P_GAMMA0]
-        gam = props[m, P_GAMMA]
+        work[4, c] = dxx
+        work[5, c] = dyy
+        work[6, c] = dtt
+        work[7, c] = dxy
+        work[8, c] = spin
+        work[9, c] = rhoh
+        # ---- artificial viscosity q^{n+1/2} (compression only), length along the compression
+        qn = 0.0
+        if trd < 0.0 and not qedge:
+            cm = 0.5 * (dxx + dyy)
+            rr = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
+            lq = math.sqrt(area1)
+            if rr > 1e-12 * (abs(cm) + 1e-300):
+                lmax = cm + rr
+                ax = dxy
+                ay = lmax - dxx
+                bxv = lmax - dyy
+                byv = dxy
+                if ax * ax + ay * ay >= bxv * bxv + byv * byv:
+                    tx = ax
+                    ty = ay
+                else:
+                    tx = bxv
+                    ty = byv
+                tn = 1.0 / math.sqrt(tx * tx + ty * ty)
+                tx *= tn
+                ty *= tn
+                p0_ = tx * xa0 + ty * ya0
+                p1_ = tx * xa1 + ty * ya1
+                p2_ = tx * xa2 + ty * ya2
+                p3_ = tx * xa3 + ty * ya3
+                width = max(max(p0_, p1_), max(p2_, p3_)) - min(min(p0_, p1_), min(p2_, p3_))
+                if width > 0.0:
+                    lq = area1 / width
+                    if lq > dmax:
+                        lq = dmax
+            qn = rhoh * (cq * cq * lq * lq * trd * trd - cl * cs[c] * lq * trd)
+        # ---- kept for the next loops: dv, q^n (mid-step), tr D, CFL length
+        vol[c] = v1
+        rho[c] = rho1
+        work[1, c] = (v1 - v0) / cmass[c]
+        work[3, c] = 0.5 * (q[c] + qn)
+        q[c] = qn
+        work[0, c] = trd
+        dtcell[c] = area1 / dmax
+    if bad < nc:
+        return 0.0, bad, errcell[bad]
+    # second loop: deviatoric stress (rotation, predictor, radial return), e~ = e + plastic heat
+    for c in prange(nc):
+        m = mat[c]
+        dxx = work[4, c]
+        dyy = work[5, c]
+        dtt = work[6, c]
+        dxy = work[7, c]
+        spin = work[8, c]
+        rhoh = work[9, c]
+        trd = work[0, c]
         skind = props[m, P_STRENGTH]
         sg0 = props[m, P_G0]
         gconst = props[m, P_G_CONST]
@@ -562,10 +611,6 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         sbeta = props[m, P_SCG + I_BETA]
         sn = props[m, P_SCG + I_N]
         symax = props[m, P_SCG + I_YMAX]
-        sgp = props[m, P_SCG + I_G]
-        sht = props[m, P_SCG + I_H]
-        sxi = props[m, P_SCG + I_XI]
-        stf = props[m, P_SCG + I_TF]
         # ---- deviatoric stress: rotation, predictor, radial return
         heat = 0.0
         hnew = 0.0
@@ -601,51 +646,10 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 heat += eel
                 eel = 0.0
             e_el[c] = eel
-        # ---- artificial viscosity q^{n+1/2} (compression only), length along the compression
-        qn = 0.0
-        if trd < 0.0 and not qedge:
-            cm = 0.5 * (dxx + dyy)
-            rr = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
-            lq = math.sqrt(area1)
-            if rr > 1e-12 * (abs(cm) + 1e-300):
-                lmax = cm + rr
-                ax = dxy
-                ay = lmax - dxx
-                bxv = lmax - dyy
-                byv = dxy
-                if ax * ax + ay * ay >= bxv * bxv + byv * byv:
-                    tx = ax
-                    ty = ay
-                else:
-                    tx = bxv
-                    ty = byv
-                tn = 1.0 / math.sqrt(tx * tx + ty * ty)
-                tx *= tn
-                ty *= tn
-                p0_ = tx * xa0 + ty * ya0
-                p1_ = tx * xa1 + ty * ya1
-                p2_ = tx * xa2 + ty * ya2
-                p3_ = tx * xa3 + ty * ya3
-                width = max(max(p0_, p1_), max(p2_, p3_)) - min(min(p0_, p1_), min(p2_, p3_))
-                if width > 0.0:
-                    lq = area1 / width
-                    if lq > dmax:
-                        lq = dmax
-            qn = rhoh * (cq * cq * lq * lq * trd * trd - cl * cs[c] * lq * trd)
-        # ---- kept for the next loops: dv, e~, q^n (mid-step), tr D, CFL length, hardening h
-        vol[c] = v1
-        rho[c] = rho1
-        work[1, c] = (v1 - v0) / cmass[c]
         work[2, c] = e[c] + heat
-        work[3, c] = 0.5 * (q[c] + qn)
-        q[c] = qn
-        work[0, c] = trd
-        dtcell[c] = area1 / dmax
         if skind != STRENGTH_NONE and skind != STRENGTH_EPP and not failed:
             yld[c] = hnew  # (SCG) times G(P, T)/G0 in the last loop
-    if bad < nc:
-        return 0.0, bad, errcell[bad]
-    # second loop: energy and pressure, spall, temperature, bulk sound speed
+    # third loop: energy and pressure, spall, temperature, bulk sound speed
     for c in prange(nc):
         m = mat[c]
         ekind = props[m, P_EOS]
