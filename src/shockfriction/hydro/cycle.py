@@ -108,6 +108,7 @@ class Simulation:
         self._jx_int_prev, self._jy_int_prev = np.zeros(nn), np.zeros(nn)
         self._int_active = False
         self._heat_in_update = False  # the viscous heat of this step still to be put in by the cell update
+        self._pending_row = None  # (ke, ie, heat, budget) of a history row waiting for that heat
         self._all_nodes = np.arange(nn, dtype=np.int64)
         self._bc_nodes = np.unique(problem.constraints.node).astype(np.int64)
         self._finished = False
@@ -254,19 +255,25 @@ class Simulation:
             en.boundary_work += K.impulse_work(nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy,
                                                self._vx_pre, self._vy_pre, self._jx_bc_prev, self._jy_bc_prev,
                                                False, self._vx_pre, self._vy_pre)
-        # heat of the hourglass / edge / shear viscosity forces over this velocity step: here on the
-        # history cycles (the row at t^n sees it), else in the cell update
-        self._heat_in_update = not record
+        # heat of the hourglass / edge / shear viscosity forces over this velocity step: in the cell
+        # update, unless the history row of this cycle has probes or observers, which must see it in
+        # the cells at t^n: then here, before the row (a row without them is completed after the
+        # update, which returns the heat)
+        in_update = not record or not (final or self._getters or self.observers)
+        self._heat_in_update = in_update
         if not record:
+            return
+        # heat put into cells during this step counts half at t^n (it is centred there)
+        q_int = 0.5 * (q_before + en.interface_heat)
+        ke = K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own)
+        budget = (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
+                  en.projection_work)
+        if in_update:
+            self._pending_row = (ke, ie, q_int - q_before, budget)
             return
         heat = K.viscous_heat_parallel if self.parallel else K.viscous_heat_serial
         qv = heat(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv, s.cell_mass, s.e)
-        # heat put into cells during this step counts half at t^n (it is centred there)
-        q_int = 0.5 * (q_before + en.interface_heat)
-        self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own),
-                     ie + 0.5 * qv + (q_int - q_before),
-                     (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
-                      en.projection_work))
+        self._record(ke, ie + 0.5 * qv + (q_int - q_before), budget)
 
     def _apply_position_shifts(self) -> None:
         """Move x^n by the interfaces' position shifts (penetration projections): node groups
@@ -296,12 +303,16 @@ class Simulation:
         K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
         # 6 cells
         update = K.update_cells_parallel if self.parallel else K.update_cells_serial
-        dtn, bad, code = update(
+        dtn, bad, code, qv = update(
             s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
             s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
             s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
             self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
             self._vx_old, self._vy_old, s.dt_velocity, self._cell_work)
+        if self._pending_row is not None:  # the history row at t^n, now that its viscous heat is known
+            ke, ie, dq, budget = self._pending_row
+            self._pending_row = None
+            self._record(ke, ie + 0.5 * qv + dq, budget)
         if bad >= 0:
             self._fail(bad, code)
         s.t += dt

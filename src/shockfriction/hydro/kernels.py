@@ -472,16 +472,20 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
     :func:`viscous_heat_serial` does on history cycles: :func:`viscous_cell_heat`).
     With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here).
     ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py).
-    Returns (min stable dt, first bad cell or -1, its error code); errcell[c] holds the code of
-    a bad cell (only bad cells are written)."""
+    Returns (min stable dt, first bad cell or -1, its error code, the viscous heat put in);
+    errcell[c] holds the code of a bad cell (only bad cells are written).  ``work``: (10, cells)
+    scratch for the values handed from one of its loops to the next."""
     ntab = table.shape[1]
     nc = conn.shape[0]
     dtmin = 1e300
     bad = nc
+    qv = 0.0
     for c in prange(nc):
         dtcell[c] = 1e300
         if heat_now:
-            e[c] += viscous_cell_heat(conn, vcorner, vx_old, vy_old, vx, vy, dtv, c) / cmass[c]
+            hc = viscous_cell_heat(conn, vcorner, vx_old, vy_old, vx, vy, dtv, c)
+            e[c] += hc / cmass[c]
+            qv += hc
         n0 = conn[c, 0]
         n1 = conn[c, 1]
         n2 = conn[c, 2]
@@ -592,7 +596,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         work[0, c] = trd
         dtcell[c] = area1 / dmax
     if bad < nc:
-        return 0.0, bad, errcell[bad]
+        return 0.0, bad, errcell[bad], qv
     # second loop: deviatoric stress (rotation, predictor, radial return), e~ = e + plastic heat
     for c in prange(nc):
         m = mat[c]
@@ -722,7 +726,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         temp[c] = t1
         cs[c] = sound_speed2_ab(rho1, p1, ekind, c0, b, da)  # bulk c^2, the last loop adds the shear part
     if bad < nc:
-        return 0.0, bad, errcell[bad]
+        return 0.0, bad, errcell[bad], qv
     # last loop: moduli, flow stress, sound speed at n+1 and the stable time step of the cell
     for c in prange(nc):
         m = mat[c]
@@ -758,7 +762,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 dtc = dvl
         dtcell[c] = dtc
         dtmin = min(dtmin, dtc)
-    return dtmin, -1, ERR_NONE
+    return dtmin, -1, ERR_NONE, qv
 
 
 update_cells_serial = njit(cache=True)(_update_cells_impl)
