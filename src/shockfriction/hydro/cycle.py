@@ -24,10 +24,10 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 5. positions x^{n+1} = x^n + dt^{n+1/2} v^{n+1/2};
 6. cells: the viscous forces' heat of step 3-4, density, strain rate, stress, viscosity,
    energy, EOS, temperature and the next stable time step, one call
-   (:func:`~shockfriction.hydro.kernels.update_cells_serial`).  On a cycle that writes a
-   history row the viscous heat goes into the cells before the row instead (the row and the
-   probes see it at t^n), so the state is the same either way; the energy sums are taken only
-   for a row (docs/theory/fused-cycle.md).
+   (:func:`~shockfriction.hydro.kernels.update_cells_serial`).  On a cycle whose history row
+   has probes or observers the viscous heat goes into the cells before the row instead (they
+   see it at t^n); the state is the same either way.  The energy sums are taken only for a
+   row (docs/theory/fused-cycle.md).
 
 Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
 leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/hydrocode.md, sec. 5).
@@ -115,7 +115,8 @@ class Simulation:
         self._corner = np.zeros((nc, 8))
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
-        self._cell_work = np.empty((10, nc))  # per-cell values handed between the cell update's loops
+        # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps)
+        self._scratch = (np.empty((10, nc)),)
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
             numba.set_num_threads(self.threads)
@@ -308,7 +309,7 @@ class Simulation:
             s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
             s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
             self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
-            self._vx_old, self._vy_old, s.dt_velocity, self._cell_work)
+            self._vx_old, self._vy_old, s.dt_velocity, self._scratch[0])
         if self._pending_row is not None:  # the history row at t^n, now that its viscous heat is known
             ke, ie, dq, budget = self._pending_row
             self._pending_row = None

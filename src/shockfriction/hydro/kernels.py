@@ -473,8 +473,14 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
     With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here).
     ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py).
     Returns (min stable dt, first bad cell or -1, its error code, the viscous heat put in);
-    errcell[c] holds the code of a bad cell (only bad cells are written).  ``work``: (10, cells)
-    scratch for the values handed from one of its loops to the next."""
+    errcell[c] holds the code of a bad cell (only bad cells are written).
+
+    Four loops over the cells, each a short chain of dependent divisions and roots that the
+    processor overlaps across cells (one loop would be one ~300-clock chain per cell): (1)
+    geometry, strain rate and q, (2) deviator, (3) energy, EOS, spall, temperature, (4) moduli,
+    flow stress, sound speed, stable step.  ``work`` (10, cells) carries the values handed from
+    one loop to the next (tr D, dv/m, e~, q mid-step, D, spin, rho^{n+1/2}), stored exactly:
+    the results are those of one loop, bit for bit."""
     ntab = table.shape[1]
     nc = conn.shape[0]
     dtmin = 1e300
