@@ -6,7 +6,8 @@ shear wave (phi = 1)."""
 import numpy as np
 import pytest
 
-from shockfriction.hydro.shear_viscosity import shear_viscosity_serial
+from shockfriction.hydro.geometry import bvec_axi, bvec_planar
+from shockfriction.hydro.shear_viscosity import shear_viscosity_forces
 
 CONN = np.array([[0, 1, 2, 3]])
 X = np.array([0.0, 1.0, 1.1, -0.1]) * 1e-3 + 2e-3
@@ -14,12 +15,17 @@ Y = np.array([0.0, 0.1, 1.0, 0.9]) * 1e-3
 
 
 def _forces(vx, vy, axi=False, elastic_only=False, sxx=0.0, yld=1e9):
-    corner, vcorner = np.zeros((1, 8)), np.zeros((1, 8))
-    shear_viscosity_serial(CONN, X, Y, vx, vy, np.array([2700.0]), np.array([26e9]), np.array([sxx]),
-                           np.array([0.0]), np.array([0.0]), np.array([yld]), axi, 0.15, 1.0, elastic_only,
-                           corner, vcorner)
-    assert np.array_equal(corner, vcorner)
-    return corner[0, :4], corner[0, 4:]
+    *_, area = bvec_planar(*X, *Y)
+    if axi:
+        *b, vol = bvec_axi(*X, *Y)
+    else:
+        b, vol = list(bvec_planar(*X, *Y)[:8]) + [0.0] * 4, area
+    on, *f = shear_viscosity_forces(26e9, 2700.0, sxx, 0.0, 0.0, yld, elastic_only, 0.15, 1.0, area, vol, 1.0 / vol,
+                                    np.sqrt(area), *b,
+                                    *vx, *vy)
+    f = np.array(f)
+    assert on == bool(np.any(f != 0.0))
+    return f[:4], f[4:]
 
 
 @pytest.mark.parametrize("axi", [False, True])

@@ -2,7 +2,8 @@
 
 One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 
-1. nodal forces F^n from sigma^n at x^n (+ hourglass and edge viscosity on v^{n-1/2});
+1. nodal forces F^n from sigma^n at x^n (+ hourglass, edge and shear viscosity on v^{n-1/2}),
+   one pass over the cells (:func:`~shockfriction.hydro.kernels.cell_forces_serial`);
 2. node groups (ties, periodic sides) share their summed force;
 3. free velocities v* = v^{n-1/2} + dt^n F/m, boundary constraints applied;
 4. **interface hook**: every registered interface object's
@@ -21,8 +22,12 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    constrained components, moves x^n by them and books -sum F.dx as
    ``state.energy.projection_work`` (part of ``contact_work``);
 5. positions x^{n+1} = x^n + dt^{n+1/2} v^{n+1/2};
-6. cells: density, strain rate, stress, viscosity, energy, EOS, temperature and
-   the next stable time step.
+6. cells: the viscous forces' heat of step 3-4, density, strain rate, stress, viscosity,
+   energy, EOS, temperature and the next stable time step, one call
+   (:func:`~shockfriction.hydro.kernels.update_cells_serial`).  On a cycle whose history row
+   has probes or observers the viscous heat goes into the cells before the row instead (they
+   see it at t^n); the state is the same either way.  The energy sums are taken only for a
+   row (docs/theory/fused-cycle.md).
 
 Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
 leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/hydrocode.md, sec. 5).
@@ -39,7 +44,6 @@ import numpy as np
 from shockfriction import threading_policy
 from shockfriction.errors import SimulationError
 from shockfriction.hydro import kernels as K
-from shockfriction.hydro import shear_viscosity as SV
 from shockfriction.hydro.guards import RunGuards
 from shockfriction.hydro.setup import Problem
 
@@ -99,16 +103,20 @@ class Simulation:
         self._vy_free = np.empty(nn)
         self._vx_pre = np.empty(nn)
         self._vy_pre = np.empty(nn)
-        # velocity jumps of constraints and interfaces, this step and the previous one (energy budget)
-        self._jx_bc, self._jy_bc = np.zeros(nn), np.zeros(nn)
+        # velocity jumps of constraints and interfaces in the previous step (energy budget)
         self._jx_bc_prev, self._jy_bc_prev = np.zeros(nn), np.zeros(nn)
-        self._jx_int, self._jy_int = np.zeros(nn), np.zeros(nn)
         self._jx_int_prev, self._jy_int_prev = np.zeros(nn), np.zeros(nn)
         self._int_active = False
+        self._heat_in_update = False  # the viscous heat of this step still to be put in by the cell update
+        self._pending_row = None  # (ke, ie, heat, budget) of a history row waiting for that heat
+        self._all_nodes = np.arange(nn, dtype=np.int64)
+        self._bc_nodes = np.unique(problem.constraints.node).astype(np.int64)
         self._finished = False
         self._corner = np.zeros((nc, 8))
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
+        # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps)
+        self._scratch = (np.empty((10, nc)),)
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
             threading_policy.use_threads(self.threads)
@@ -178,20 +186,19 @@ class Simulation:
             f"body {name!r}, {where} [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
-    def _forces(self) -> None:
-        """Nodal forces F^n into state.fx, fy (viscous corner forces kept for their heat)."""
+    def _forces(self, want_ie: bool) -> float:
+        """Nodal forces F^n into state.fx, fy (viscous corner forces kept for their heat) in one
+        pass over the cells (+ a gather over the nodes when parallel); returns the internal
+        energy at t^n if ``want_ie`` (else 0)."""
         s = self.state
-        corner = K.corner_forces_parallel if self.parallel else K.corner_forces_serial
-        corner(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
-               s.axisymmetric, self.hg, self._corner, self._vcorner, self.qedge, self.cq, self.cl)
-        if self.shear_visc:
-            shear = SV.shear_viscosity_parallel if self.parallel else SV.shear_viscosity_serial
-            shear(s.conn, s.x, s.y, s.vx, s.vy, s.rho, s.shear_modulus, s.sxx, s.syy, s.sxy, s.yield_stress,
-                  s.axisymmetric, *self.shear_visc_args, self._corner, self._vcorner)
+        forces = K.cell_forces_parallel if self.parallel else K.cell_forces_serial
+        ie = forces(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+                    s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
+                    self.shear_visc, *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy,
+                    not self.parallel, s.e, s.e_el, s.cell_mass, want_ie)
         if self.parallel:
             K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
-        else:
-            K.scatter_forces(s.conn, self._corner, s.fx, s.fy)
+        return ie
 
     # ------------------------------------------------------------------ one cycle
     def step(self) -> None:
@@ -213,21 +220,19 @@ class Simulation:
         dt = s.dt
         dtv = 0.5 * (self._dt_prev + dt)
         s.dt_velocity = dtv
-        ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
-        # 1-2 forces
-        self._forces()
+        record = final or s.cycle % self.probe_every == 0
+        # 1-2 forces (and the internal energy at t^n for the history row)
+        ie = self._forces(record)
         if self._grp[0].shape[0] > 1:
             K.sum_groups(s.fx, s.fy, *self._grp)
         en = s.energy
         q_before = en.interface_heat
-        # 3 free velocities and boundary constraints
-        self._vx_old[:] = s.vx
-        self._vy_old[:] = s.vy
-        K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv)
-        self._vx_pre[:] = s.vx
-        self._vy_pre[:] = s.vy
+        # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
+        K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
+                             self._vy_pre)
         K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
         # 4 interfaces
+        int_prev = self._int_active
         if self.interfaces:
             self._vx_free[:] = s.vx
             self._vy_free[:] = s.vy
@@ -236,34 +241,42 @@ class Simulation:
             if self._grp[0].shape[0] > 1:
                 K.sync_groups(s.vx, s.vy, self._vx_free, self._vy_free, *self._grp)
             self._apply_position_shifts()
-            self._jx_int[:] = s.vx - self._vx_free
-            self._jy_int[:] = s.vy - self._vy_free
-            self._vx_pre += self._jx_int  # constraint impulses = what the constraints changed
-            self._vy_pre += self._jy_int
+            # the interfaces' jumps J = v - v_free; added to _vx_pre (constraint impulses = what the
+            # constraints changed)
+            en.interface_work += K.impulse_work(self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx,
+                                                s.vy, self._vx_free, self._vy_free, self._jx_int_prev,
+                                                self._jy_int_prev, True, self._vx_pre, self._vy_pre)
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
-            en.interface_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_int, self._jy_int,
-                                                self._jx_int_prev, self._jy_int_prev)
-        elif self._int_active:
-            self._jx_int[:] = 0.0
-            self._jy_int[:] = 0.0
-            en.interface_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_int, self._jy_int,
-                                                self._jx_int_prev, self._jy_int_prev)
+        elif self._int_active:  # no jumps this step, the last step's still count
+            en.interface_work += K.impulse_work(self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx,
+                                                s.vy, s.vx, s.vy, self._jx_int_prev, self._jy_int_prev, False,
+                                                self._vx_pre, self._vy_pre)
         self._int_active = bool(self.interfaces)
         if self._cons[0].shape[0]:
-            self._jx_bc[:] = s.vx - self._vx_pre
-            self._jy_bc[:] = s.vy - self._vy_pre
-            en.boundary_work += K.impulse_work(s.mass_own, self._vx_old, self._vy_old, self._jx_bc, self._jy_bc,
-                                               self._jx_bc_prev, self._jy_bc_prev)
-        # heat of the hourglass / edge-viscosity forces over this velocity step
+            # without interfaces (this step and the last) the jumps live on the constrained nodes only
+            nodes = self._all_nodes if (self._int_active or int_prev) else self._bc_nodes
+            en.boundary_work += K.impulse_work(nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy,
+                                               self._vx_pre, self._vy_pre, self._jx_bc_prev, self._jy_bc_prev,
+                                               False, self._vx_pre, self._vy_pre)
+        # heat of the hourglass / edge / shear viscosity forces over this velocity step: in the cell
+        # update, unless the history row of this cycle has probes or observers, which must see it in
+        # the cells at t^n: then here, before the row (a row without them is completed after the
+        # update, which returns the heat)
+        in_update = not record or not (final or self._getters or self.observers)
+        self._heat_in_update = in_update
+        if not record:
+            return
+        # heat put into cells during this step counts half at t^n (it is centred there)
+        q_int = 0.5 * (q_before + en.interface_heat)
+        ke = K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own)
+        budget = (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
+                  en.projection_work)
+        if in_update:
+            self._pending_row = (ke, ie, q_int - q_before, budget)
+            return
         heat = K.viscous_heat_parallel if self.parallel else K.viscous_heat_serial
         qv = heat(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv, s.cell_mass, s.e)
-        if final or s.cycle % self.probe_every == 0:
-            # heat put into cells during this step counts half at t^n (it is centred there)
-            q_int = 0.5 * (q_before + en.interface_heat)
-            self._record(K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own),
-                         ie + 0.5 * qv + (q_int - q_before),
-                         (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
-                          en.projection_work))
+        self._record(ke, ie + 0.5 * qv + (q_int - q_before), budget)
 
     def _apply_position_shifts(self) -> None:
         """Move x^n by the interfaces' position shifts (penetration projections): node groups
@@ -293,11 +306,16 @@ class Simulation:
         K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
         # 6 cells
         update = K.update_cells_parallel if self.parallel else K.update_cells_serial
-        update(s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
-               s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
-               s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-               self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage)
-        dtn, bad, code = K.reduce_time_step(self._dtcell, self._errcell)
+        dtn, bad, code, qv = update(
+            s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+            s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+            s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
+            self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
+            self._vx_old, self._vy_old, s.dt_velocity, self._scratch[0])
+        if self._pending_row is not None:  # the history row at t^n, now that its viscous heat is known
+            ke, ie, dq, budget = self._pending_row
+            self._pending_row = None
+            self._record(ke, ie + 0.5 * qv + dq, budget)
         if bad >= 0:
             self._fail(bad, code)
         s.t += dt

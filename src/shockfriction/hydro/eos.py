@@ -70,6 +70,12 @@ def sound_speed2_s(rho, p, kind, rho0, c0, s, g0, gamma):
     constant; the ideal gas has B = (gamma - 1) rho, so e dB/drho = P/rho and c^2 = gamma P/rho.
     """
     a, b, da = eos_ab_s(rho, kind, rho0, c0, s, g0, gamma)
+    return sound_speed2_ab(rho, p, kind, c0, b, da)
+
+
+@njit(cache=True)
+def sound_speed2_ab(rho, p, kind, c0, b, da):
+    """:func:`sound_speed2_s` from B and dA/drho of :func:`eos_ab_s` at ``rho`` (already known)."""
     c2 = da + p * b / (rho * rho)
     if kind == EOS_IDEAL_GAS:
         c2 += p / rho

@@ -1,21 +1,24 @@
-"""The numba kernels of one Wilkins cycle (thesis Fig. 3.7, errata resolved).
+"""The numba kernels of one Wilkins cycle (thesis Fig. 3.7, errata resolved), fused into
+two passes over the cells and two over the nodes (docs/theory/fused-cycle.md).
 
-* :func:`corner_forces_serial` / :func:`corner_forces_parallel` then
-  :func:`scatter_forces` / :func:`gather_forces`: nodal forces F^n from the cell
-  stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the velocity-dependent
-  forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge viscosity),
-  kept apart for :func:`viscous_heat_serial` / ``_parallel``, which puts the kinetic
-  energy they remove over the step into the cells.
+* :func:`cell_forces_serial` / :func:`cell_forces_parallel` (the force pass): nodal forces
+  F^n from the cell stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the
+  velocity-dependent forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge
+  viscosity, optional shear viscosity), summed into the nodes in the same loop (serial) or
+  by :func:`gather_forces` (parallel, race-free); the velocity-dependent part is kept per
+  corner for the viscous heat, the kinetic energy those forces remove over the step, put
+  into the cells by :func:`viscous_cell_heat` (in the cell update, or in
+  :func:`viscous_heat_serial` / ``_parallel`` on the cycles that write a history row).
 * :func:`sum_groups` / :func:`sync_groups`: node groups (ties, periodic sides).
 * :func:`advance_velocities`: v* = v^{n-1/2} + dt F/m.
 * :func:`apply_constraints`: v <- v - (v.n - value) n per constraint.
 * :func:`impulse_work`: the kinetic energy that velocity jumps (constraints,
   interfaces) put into the leapfrog kinetic energy.
 * :func:`move_nodes`: x^{n+1} = x^n + dt v^{n+1/2}.
-* :func:`update_cells_serial` / :func:`update_cells_parallel`: per cell, volume and
-  density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
-  artificial viscosity q^{n+1/2}, energy update with the EOS, temperature,
-  sound speed and the cell's stable time step; :func:`reduce_time_step`.
+* :func:`update_cells_serial` / :func:`update_cells_parallel` (the cell pass): per cell,
+  volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
+  artificial viscosity q^{n+1/2}, energy update with the EOS, spall, temperature, moduli,
+  sound speed and the cell's stable time step, reduced to the step of the cycle.
 
 The serial and parallel variants are the same Python function compiled twice
 (``prange`` is ``range`` without ``parallel=True``); per-cell helpers take and return
@@ -31,7 +34,7 @@ import types
 import numpy as np
 from numba import njit, prange
 
-from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_s, temperature
+from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_ab, temperature
 from shockfriction.hydro.geometry import (
     axi_volume, bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area,
 )
@@ -40,6 +43,7 @@ from shockfriction.hydro.matprops import (
     P_PSPALL, P_SCG, P_SPALL, P_STRENGTH, P_T0, P_TB_K, P_TB_LAMBDA, P_TB_SIGMA0, P_Y0, SPALL_NONE, STRENGTH_EPP,
     STRENGTH_NONE,
 )
+from shockfriction.hydro.shear_viscosity import shear_viscosity_forces
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.hydro.spall import spall_damage
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
@@ -94,11 +98,26 @@ def edge_viscosity(xa, ya, xb, yb, ua, va, ub, vb, xc, yc, rho, c, cq, cl, axi):
     return f * ex, f * ey, f * dvn
 
 
-def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, hg, corner, vcorner,
-                        qedge, cq, cl):
-    """Corner forces of every cell into corner[c, 0:8] (fx0..fx3, fy0..fy3); the velocity-dependent
-    part (hourglass, edge viscosity) also into vcorner, for :func:`viscous_heat`."""
+def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
+                      svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, scatter, e, e_el, cmass, want_ie):
+    """One pass over the cells for the nodal forces F^n (the cycle's step 1).
+
+    Per cell, at x^n: the stress corner forces -sigma^n . b_i (sigma^n = S^n - (P^n + q^{n-1/2}) 1),
+    plus the velocity-dependent ones on v^{n-1/2}: Flanagan-Belytschko hourglass, the edge
+    viscosity (``qedge``, :func:`edge_viscosity`) and the shear viscosity (``svisc``,
+    :func:`~shockfriction.hydro.shear_viscosity.shear_viscosity_forces`).  The velocity-dependent
+    part goes to ``vcorner[c, 0:8]`` (fx0..fx3, fy0..fy3) for the viscous heat.  With ``scatter``
+    (serial kernel only) the corner forces are summed into the nodal forces fx, fy here (in
+    cell order); otherwise (parallel) they are stored in ``corner`` for :func:`gather_forces`.
+    Returns the internal energy sum_c m_c (e_c + e_el,c) at t^n when ``want_ie`` (else 0)."""
+    if scatter:
+        for n in range(fx.shape[0]):
+            fx[n] = 0.0
+            fy[n] = 0.0
+    ie = 0.0
     for c in prange(conn.shape[0]):
+        if want_ie:
+            ie += cmass[c] * (e[c] + e_el[c])
         n0 = conn[c, 0]
         n1 = conn[c, 1]
         n2 = conn[c, 2]
@@ -111,17 +130,34 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, h
         y1 = y[n1]
         y2 = y[n2]
         y3 = y[n3]
+        u0 = vx[n0]
+        u1 = vx[n1]
+        u2 = vx[n2]
+        u3 = vx[n3]
+        w0 = vy[n0]
+        w1 = vy[n1]
+        w2 = vy[n2]
+        w3 = vy[n3]
         pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3, area = bvec_planar(x0, x1, x2, x3, y0, y1, y2, y3)
         if axi:
-            bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, _ = bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3)
+            bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, vol = bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3)
         else:
             bx0, bx1, bx2, bx3, by0, by1, by2, by3 = pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3
             h0 = h1 = h2 = h3 = 0.0
+            vol = area
+        # 1/area and sqrt(area): hourglass and shear viscosity
+        inva = 1.0
+        sqa = 0.0
+        if area > 0.0:
+            inva = 1.0 / area
+            sqa = math.sqrt(area)
         ptot = p[c] + q[c]
-        a_xx = sxx[c] - ptot
-        a_yy = syy[c] - ptot
-        a_tt = -(sxx[c] + syy[c]) - ptot
+        s_xx = sxx[c]
+        s_yy = syy[c]
         a_xy = sxy[c]
+        a_xx = s_xx - ptot
+        a_yy = s_yy - ptot
+        a_tt = -(s_xx + s_yy) - ptot
         f0 = -(a_xx * bx0 + a_xy * by0 + a_tt * h0)
         f1 = -(a_xx * bx1 + a_xy * by1 + a_tt * h1)
         f2 = -(a_xx * bx2 + a_xy * by2 + a_tt * h2)
@@ -137,15 +173,14 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, h
             # Flanagan-Belytschko viscous hourglass: gamma = Gamma - (Gamma.x) b_x/A - (Gamma.y) b_y/A
             gx = x0 - x1 + x2 - x3
             gy = y0 - y1 + y2 - y3
-            inv = 1.0 / area
-            gam0 = 1.0 - (gx * pbx0 + gy * pby0) * inv
-            gam1 = -1.0 - (gx * pbx1 + gy * pby1) * inv
-            gam2 = 1.0 - (gx * pbx2 + gy * pby2) * inv
-            gam3 = -1.0 - (gx * pbx3 + gy * pby3) * inv
-            hu = gam0 * vx[n0] + gam1 * vx[n1] + gam2 * vx[n2] + gam3 * vx[n3]
-            hv = gam0 * vy[n0] + gam1 * vy[n1] + gam2 * vy[n2] + gam3 * vy[n3]
+            gam0 = 1.0 - (gx * pbx0 + gy * pby0) * inva
+            gam1 = -1.0 - (gx * pbx1 + gy * pby1) * inva
+            gam2 = 1.0 - (gx * pbx2 + gy * pby2) * inva
+            gam3 = -1.0 - (gx * pbx3 + gy * pby3) * inva
+            hu = gam0 * u0 + gam1 * u1 + gam2 * u2 + gam3 * u3
+            hv = gam0 * w0 + gam1 * w1 + gam2 * w2 + gam3 * w3
             w = 0.25 * (x0 + x1 + x2 + x3) if axi else 1.0
-            coef = 0.25 * hg * rho[c] * cs[c] * math.sqrt(area) * w
+            coef = 0.25 * hg * rho[c] * cs[c] * sqa * w
             vf0 -= coef * gam0 * hu
             vf1 -= coef * gam1 * hu
             vf2 -= coef * gam2 * hu
@@ -157,14 +192,6 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, h
         if qedge:
             xc = 0.25 * (x0 + x1 + x2 + x3)
             yc = 0.25 * (y0 + y1 + y2 + y3)
-            u0 = vx[n0]
-            u1 = vx[n1]
-            u2 = vx[n2]
-            u3 = vx[n3]
-            w0 = vy[n0]
-            w1 = vy[n1]
-            w2 = vy[n2]
-            w3 = vy[n3]
             rc = rho[c]
             cc = cs[c]
             ex, ey, _ = edge_viscosity(x0, y0, x1, y1, u0, w0, u1, w1, xc, yc, rc, cc, cq, cl, axi)
@@ -187,14 +214,6 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, h
             vg3 += ey
             vf0 -= ex
             vg0 -= ey
-        vcorner[c, 0] = vf0
-        vcorner[c, 1] = vf1
-        vcorner[c, 2] = vf2
-        vcorner[c, 3] = vf3
-        vcorner[c, 4] = vg0
-        vcorner[c, 5] = vg1
-        vcorner[c, 6] = vg2
-        vcorner[c, 7] = vg3
         f0 += vf0
         f1 += vf1
         f2 += vf2
@@ -203,49 +222,85 @@ def _corner_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, axi, h
         g1 += vg1
         g2 += vg2
         g3 += vg3
-        corner[c, 0] = f0
-        corner[c, 1] = f1
-        corner[c, 2] = f2
-        corner[c, 3] = f3
-        corner[c, 4] = g0
-        corner[c, 5] = g1
-        corner[c, 6] = g2
-        corner[c, 7] = g3
+        if svisc:
+            invv = (1.0 / vol if vol > 0.0 else 1.0) if axi else inva
+            on, sf0, sf1, sf2, sf3, sg0, sg1, sg2, sg3 = shear_viscosity_forces(
+                shear[c], rho[c], s_xx, s_yy, a_xy, yld[c], elastic_only, scl, scq, area, vol, invv, sqa,
+                bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, u0, u1, u2, u3, w0, w1, w2, w3)
+            if on:
+                f0 += sf0
+                f1 += sf1
+                f2 += sf2
+                f3 += sf3
+                g0 += sg0
+                g1 += sg1
+                g2 += sg2
+                g3 += sg3
+                vf0 += sf0
+                vf1 += sf1
+                vf2 += sf2
+                vf3 += sf3
+                vg0 += sg0
+                vg1 += sg1
+                vg2 += sg2
+                vg3 += sg3
+        vcorner[c, 0] = vf0
+        vcorner[c, 1] = vf1
+        vcorner[c, 2] = vf2
+        vcorner[c, 3] = vf3
+        vcorner[c, 4] = vg0
+        vcorner[c, 5] = vg1
+        vcorner[c, 6] = vg2
+        vcorner[c, 7] = vg3
+        if scatter:
+            fx[n0] += f0
+            fx[n1] += f1
+            fx[n2] += f2
+            fx[n3] += f3
+            fy[n0] += g0
+            fy[n1] += g1
+            fy[n2] += g2
+            fy[n3] += g3
+        else:
+            corner[c, 0] = f0
+            corner[c, 1] = f1
+            corner[c, 2] = f2
+            corner[c, 3] = f3
+            corner[c, 4] = g0
+            corner[c, 5] = g1
+            corner[c, 6] = g2
+            corner[c, 7] = g3
+    return ie
 
 
-corner_forces_serial = njit(cache=True)(_corner_forces_impl)
-corner_forces_parallel = njit(cache=True, parallel=True)(_twin(_corner_forces_impl, "_parallel"))
+cell_forces_serial = njit(cache=True)(_cell_forces_impl)
+cell_forces_parallel = njit(cache=True, parallel=True)(_twin(_cell_forces_impl, "_parallel"))
 
 
 def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
     """Put the work of the viscous corner forces over the velocity step, -dt f . (v^{n-1/2} +
-    v^{n+1/2})/2, into each cell's energy (exactly the kinetic energy they removed); return the sum."""
+    v^{n+1/2})/2, into each cell's energy (exactly the kinetic energy they removed); return the sum.
+    (Used on the cycles that write a history row; otherwise the cell update does it.)"""
     total = 0.0
     for c in prange(conn.shape[0]):
-        w = 0.0
-        for k in range(4):
-            n = conn[c, k]
-            w += vcorner[c, k] * (vx0[n] + vx1[n]) + vcorner[c, 4 + k] * (vy0[n] + vy1[n])
-        heat = -0.5 * dt * w
+        heat = viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c)
         e[c] += heat / cmass[c]
         total += heat
     return total
 
 
+@njit(cache=True, inline="always")
+def viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c):
+    """-dt/2 sum_i f_i . (v_i^{n-1/2} + v_i^{n+1/2}) of cell c's viscous corner forces f_i."""
+    w = 0.0
+    for k in range(4):
+        n = conn[c, k]
+        w += vcorner[c, k] * (vx0[n] + vx1[n]) + vcorner[c, 4 + k] * (vy0[n] + vy1[n])
+    return -0.5 * dt * w
+
+
 viscous_heat_serial = njit(cache=True)(_viscous_heat_impl)
 viscous_heat_parallel = njit(cache=True, parallel=True)(_twin(_viscous_heat_impl, "_parallel"))
-
-
-@njit(cache=True)
-def scatter_forces(conn, corner, fx, fy):
-    """Nodal forces: sum of the corner forces of the cells around each node (serial scatter)."""
-    fx[:] = 0.0
-    fy[:] = 0.0
-    for c in range(conn.shape[0]):
-        for k in range(4):
-            n = conn[c, k]
-            fx[n] += corner[c, k]
-            fy[n] += corner[c, 4 + k]
 
 
 @njit(cache=True, parallel=True)
@@ -286,15 +341,23 @@ def apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, d
 
 
 @njit(cache=True)
-def impulse_work(mass_own, vx_old, vy_old, jx, jy, jx_prev, jy_prev):
-    """Kinetic-energy change that velocity jumps J (constraints, interfaces) make in the leapfrog
-    kinetic energy K^n = sum m v^{n-1/2}.v^{n+1/2}/2 at t^n: sum m v^{n-1/2}.(J^n + J^{n-1})/2.
-    Copies J into J_prev for the next step."""
+def impulse_work(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry, cx, cy):
+    """Kinetic-energy change that velocity jumps J = v - v_ref (constraints, interfaces) make in the
+    leapfrog kinetic energy K^n = sum m v^{n-1/2}.v^{n+1/2}/2 at t^n: sum m v^{n-1/2}.(J^n + J^{n-1})/2
+    over ``nodes`` (ascending; all nodes, or a set outside which J^n = J^{n-1} = 0).
+    Copies J into J_prev for the next step; with ``carry`` also adds J to (cx, cy) (the interfaces'
+    jumps carried into the reference of the constraints' jumps)."""
     w = 0.0
-    for n in range(vx_old.shape[0]):
-        w += mass_own[n] * (vx_old[n] * (jx[n] + jx_prev[n]) + vy_old[n] * (jy[n] + jy_prev[n]))
-        jx_prev[n] = jx[n]
-        jy_prev[n] = jy[n]
+    for k in range(nodes.shape[0]):
+        n = nodes[k]
+        jx = vx[n] - vx_ref[n]
+        jy = vy[n] - vy_ref[n]
+        w += mass_own[n] * (vx_old[n] * (jx + jx_prev[n]) + vy_old[n] * (jy + jy_prev[n]))
+        jx_prev[n] = jx
+        jy_prev[n] = jy
+        if carry:
+            cx[n] += jx
+            cy[n] += jy
     return 0.5 * w
 
 
@@ -332,21 +395,32 @@ def sync_groups(vx, vy, vx_ref, vy_ref, grp_ptr, grp_nodes):
 
 
 @njit(cache=True)
-def advance_velocities(vx, vy, fx, fy, mass, dt):
-    """v* = v + dt F/m (m: the group mass of the node)."""
+def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre):
+    """v* = v + dt F/m (m: the group mass of the node); v is kept in (vx_old, vy_old) and v* in
+    (vx_pre, vy_pre) (the velocities before the constraints)."""
     for n in range(vx.shape[0]):
-        vx[n] += dt * fx[n] / mass[n]
-        vy[n] += dt * fy[n] / mass[n]
+        u = vx[n]
+        w = vy[n]
+        vx_old[n] = u
+        vy_old[n] = w
+        u += dt * fx[n] / mass[n]
+        w += dt * fy[n] / mass[n]
+        vx[n] = u
+        vy[n] = w
+        vx_pre[n] = u
+        vy_pre[n] = w
 
 
 @njit(cache=True)
 def move_nodes(x, y, vx, vy, dt, x_old, y_old):
     """Keep x^n in (x_old, y_old) and set x^{n+1} = x^n + dt v^{n+1/2}."""
     for n in range(x.shape[0]):
-        x_old[n] = x[n]
-        y_old[n] = y[n]
-        x[n] += dt * vx[n]
-        y[n] += dt * vy[n]
+        u = x[n]
+        w = y[n]
+        x_old[n] = u
+        y_old[n] = w
+        x[n] = u + dt * vx[n]
+        y[n] = w + dt * vy[n]
 
 
 @njit(cache=True)
@@ -388,15 +462,36 @@ def internal_energy(e, e_el, cmass):
 
 def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
-                       qedge, dmg):
-    """Advance every cell from t^n to t^{n+1}: dtcell[c] = its stable step, errcell[c] = error code.
+                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work):
+    """The cycle's cell pass (step 6): advance every cell from t^n to t^{n+1}.
+
+    Per cell: volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation and radial
+    return, artificial viscosity q^{n+1/2}, energy with the EOS, spall damage, temperature,
+    moduli, flow stress, sound speed and the stable step dtcell[c].  With ``heat_now`` it first
+    puts the viscous corner forces' work over the velocity step dtv into e (what
+    :func:`viscous_heat_serial` does on history cycles: :func:`viscous_cell_heat`).
     With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here).
-    ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py)."""
+    ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py).
+    Returns (min stable dt, first bad cell or -1, its error code, the viscous heat put in);
+    errcell[c] holds the code of a bad cell (only bad cells are written).
+
+    Four loops over the cells, each a short chain of dependent divisions and roots that the
+    processor overlaps across cells (one loop would be one ~300-clock chain per cell): (1)
+    geometry, strain rate and q, (2) deviator, (3) energy, EOS, spall, temperature, (4) moduli,
+    flow stress, sound speed, stable step.  ``work`` (10, cells) carries the values handed from
+    one loop to the next (tr D, dv/m, e~, q mid-step, D, spin, rho^{n+1/2}), stored exactly:
+    the results are those of one loop, bit for bit."""
     ntab = table.shape[1]
-    for c in prange(conn.shape[0]):
-        errcell[c] = ERR_NONE
+    nc = conn.shape[0]
+    dtmin = 1e300
+    bad = nc
+    qv = 0.0
+    for c in prange(nc):
         dtcell[c] = 1e300
-        m = mat[c]
+        if heat_now:
+            hc = viscous_cell_heat(conn, vcorner, vx_old, vy_old, vx, vy, dtv, c)
+            e[c] += hc / cmass[c]
+            qv += hc
         n0 = conn[c, 0]
         n1 = conn[c, 1]
         n2 = conn[c, 2]
@@ -424,6 +519,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 errcell[c] = ERR_NAN
             else:
                 errcell[c] = ERR_INVERTED
+            bad = min(bad, c)
             continue
         # ---- geometry at n+1/2 and strain rate
         xh0 = 0.5 * (x0a[n0] + xa0)
@@ -460,13 +556,63 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         v0 = vol[c]
         rho1 = cmass[c] / v1
         rhoh = cmass[c] / vh
-        # ---- material parameters
-        ekind = props[m, P_EOS]
-        rho0 = props[m, P_RHO0]
-        c0 = props[m, P_C0]
-        s_ = props[m, P_S]
-        g0 = props[m, P_GAMMA0]
-        gam = props[m, P_GAMMA]
+        work[4, c] = dxx
+        work[5, c] = dyy
+        work[6, c] = dtt
+        work[7, c] = dxy
+        work[8, c] = spin
+        work[9, c] = rhoh
+        # ---- artificial viscosity q^{n+1/2} (compression only), length along the compression
+        qn = 0.0
+        if trd < 0.0 and not qedge:
+            cm = 0.5 * (dxx + dyy)
+            rr = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
+            lq = math.sqrt(area1)
+            if rr > 1e-12 * (abs(cm) + 1e-300):
+                lmax = cm + rr
+                ax = dxy
+                ay = lmax - dxx
+                bxv = lmax - dyy
+                byv = dxy
+                if ax * ax + ay * ay >= bxv * bxv + byv * byv:
+                    tx = ax
+                    ty = ay
+                else:
+                    tx = bxv
+                    ty = byv
+                tn = 1.0 / math.sqrt(tx * tx + ty * ty)
+                tx *= tn
+                ty *= tn
+                p0_ = tx * xa0 + ty * ya0
+                p1_ = tx * xa1 + ty * ya1
+                p2_ = tx * xa2 + ty * ya2
+                p3_ = tx * xa3 + ty * ya3
+                width = max(max(p0_, p1_), max(p2_, p3_)) - min(min(p0_, p1_), min(p2_, p3_))
+                if width > 0.0:
+                    lq = area1 / width
+                    if lq > dmax:
+                        lq = dmax
+            qn = rhoh * (cq * cq * lq * lq * trd * trd - cl * cs[c] * lq * trd)
+        # ---- kept for the next loops: dv, q^n (mid-step), tr D, CFL length
+        vol[c] = v1
+        rho[c] = rho1
+        work[1, c] = (v1 - v0) / cmass[c]
+        work[3, c] = 0.5 * (q[c] + qn)
+        q[c] = qn
+        work[0, c] = trd
+        dtcell[c] = area1 / dmax
+    if bad < nc:
+        return 0.0, bad, errcell[bad], qv
+    # second loop: deviatoric stress (rotation, predictor, radial return), e~ = e + plastic heat
+    for c in prange(nc):
+        m = mat[c]
+        dxx = work[4, c]
+        dyy = work[5, c]
+        dtt = work[6, c]
+        dxy = work[7, c]
+        spin = work[8, c]
+        rhoh = work[9, c]
+        trd = work[0, c]
         skind = props[m, P_STRENGTH]
         sg0 = props[m, P_G0]
         gconst = props[m, P_G_CONST]
@@ -475,10 +621,6 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         sbeta = props[m, P_SCG + I_BETA]
         sn = props[m, P_SCG + I_N]
         symax = props[m, P_SCG + I_YMAX]
-        sgp = props[m, P_SCG + I_G]
-        sht = props[m, P_SCG + I_H]
-        sxi = props[m, P_SCG + I_XI]
-        stf = props[m, P_SCG + I_TF]
         # ---- deviatoric stress: rotation, predictor, radial return
         heat = 0.0
         hnew = 0.0
@@ -514,43 +656,26 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 heat += eel
                 eel = 0.0
             e_el[c] = eel
-        # ---- artificial viscosity q^{n+1/2} (compression only), length along the compression
-        qn = 0.0
-        if trd < 0.0 and not qedge:
-            cm = 0.5 * (dxx + dyy)
-            rr = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
-            lq = math.sqrt(area1)
-            if rr > 1e-12 * (abs(cm) + 1e-300):
-                lmax = cm + rr
-                ax = dxy
-                ay = lmax - dxx
-                bxv = lmax - dyy
-                byv = dxy
-                if ax * ax + ay * ay >= bxv * bxv + byv * byv:
-                    tx = ax
-                    ty = ay
-                else:
-                    tx = bxv
-                    ty = byv
-                tn = 1.0 / math.sqrt(tx * tx + ty * ty)
-                tx *= tn
-                ty *= tn
-                p0_ = tx * xa0 + ty * ya0
-                p1_ = tx * xa1 + ty * ya1
-                p2_ = tx * xa2 + ty * ya2
-                p3_ = tx * xa3 + ty * ya3
-                width = max(max(p0_, p1_), max(p2_, p3_)) - min(min(p0_, p1_), min(p2_, p3_))
-                if width > 0.0:
-                    lq = area1 / width
-                    if lq > dmax:
-                        lq = dmax
-            qn = rhoh * (cq * cq * lq * lq * trd * trd - cl * cs[c] * lq * trd)
+        work[2, c] = e[c] + heat
+        if skind != STRENGTH_NONE and skind != STRENGTH_EPP and not failed:
+            yld[c] = hnew  # (SCG) times G(P, T)/G0 in the last loop
+    # third loop: energy and pressure, spall, temperature, bulk sound speed
+    for c in prange(nc):
+        m = mat[c]
+        ekind = props[m, P_EOS]
+        rho0 = props[m, P_RHO0]
+        c0 = props[m, P_C0]
+        s_ = props[m, P_S]
+        g0 = props[m, P_GAMMA0]
+        gam = props[m, P_GAMMA]
+        failed = dmg[c] >= 1.0
+        rho1 = rho[c]
+        dv = work[1, c]
+        et = work[2, c]
+        qmid = work[3, c]
         # ---- energy and pressure (thesis eq. 3.18 with errata), q time-centred as the forces see it:
         # e1 = e~ - ((P^n + q^{n-1/2}) + (P^{n+1} + q^{n+1/2}))/2 dv
-        dv = (v1 - v0) / cmass[c]
-        et = e[c] + heat
-        qmid = 0.5 * (q[c] + qn)
-        a, b, _ = eos_ab_s(rho1, ekind, rho0, c0, s_, g0, gam)
+        a, b, da = eos_ab_s(rho1, ekind, rho0, c0, s_, g0, gam)
         e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
         p1 = a + b * e1
         pfloor = props[m, P_PMIN]
@@ -583,6 +708,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
             dmg[c] = dnew
         if not (math.isfinite(e1) and math.isfinite(p1)):
             errcell[c] = ERR_NAN
+            bad = min(bad, c)
             continue
         # ---- temperature: T0 + (e - e_s(mu))/cv, or e/cv (ideal gas)
         cv = props[m, P_CV]
@@ -601,31 +727,37 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 wt = f - k
                 es = (1.0 - wt) * table[m, k] + wt * table[m, k + 1]
             t1 = props[m, P_T0] + (e1 - es) / cv
-        vol[c] = v1
-        rho[c] = rho1
         e[c] = e1
         p[c] = p1
-        q[c] = qn
         temp[c] = t1
-        # ---- moduli, flow stress and sound speed at n+1
-        c2 = sound_speed2_s(rho1, p1, ekind, rho0, c0, s_, g0, gam)
-        if failed:
+        cs[c] = sound_speed2_ab(rho1, p1, ekind, c0, b, da)  # bulk c^2, the last loop adds the shear part
+    if bad < nc:
+        return 0.0, bad, errcell[bad], qv
+    # last loop: moduli, flow stress, sound speed at n+1 and the stable time step of the cell
+    for c in prange(nc):
+        m = mat[c]
+        skind = props[m, P_STRENGTH]
+        sg0 = props[m, P_G0]
+        c2 = cs[c]
+        rho1 = rho[c]
+        if dmg[c] >= 1.0:  # failed
             shear[c] = 0.0
             yld[c] = 0.0
         elif skind == STRENGTH_EPP:
             shear[c] = sg0
-            yld[c] = y_epp
+            yld[c] = props[m, P_Y0]
             c2 += 4.0 * sg0 / (3.0 * rho1)
         elif skind != STRENGTH_NONE:
-            ratio1 = scg_shear_ratio(p1, t1, sgp, sht, sxi, stf)
+            ratio1 = scg_shear_ratio(p[c], temp[c], props[m, P_SCG + I_G], props[m, P_SCG + I_H],
+                                     props[m, P_SCG + I_XI], props[m, P_SCG + I_TF])
             shear[c] = sg0 * ratio1
-            yld[c] = hnew * ratio1
-            gpred = sg0 if (gconst != 0.0 and ratio1 > 0.0) else sg0 * ratio1
+            yld[c] = yld[c] * ratio1
+            gpred = sg0 if (props[m, P_G_CONST] != 0.0 and ratio1 > 0.0) else sg0 * ratio1
             c2 += 4.0 * gpred / (3.0 * rho1)
         c1 = math.sqrt(c2)
         cs[c] = c1
-        # ---- stable time step of the cell
-        lcfl = area1 / dmax
+        lcfl = dtcell[c]
+        trd = work[0, c]
         aq = 0.0
         if trd < 0.0:
             aq = cq * cq * lcfl * (-trd) + cl * c1
@@ -635,22 +767,12 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
             if dvl < dtc:
                 dtc = dvl
         dtcell[c] = dtc
+        dtmin = min(dtmin, dtc)
+    return dtmin, -1, ERR_NONE, qv
 
 
 update_cells_serial = njit(cache=True)(_update_cells_impl)
 update_cells_parallel = njit(cache=True, parallel=True)(_twin(_update_cells_impl, "_parallel"))
-
-
-@njit(cache=True)
-def reduce_time_step(dtcell, errcell):
-    """(min stable dt, first bad cell or -1, its error code)."""
-    dtmin = 1e300
-    for c in range(dtcell.shape[0]):
-        if errcell[c] != ERR_NONE:
-            return 0.0, c, errcell[c]
-        if dtcell[c] < dtmin:
-            dtmin = dtcell[c]
-    return dtmin, -1, ERR_NONE
 
 
 @njit(cache=True)

@@ -114,10 +114,13 @@ def radial_return_s(sxx, syy, sxy, eps_p, G, ratio, kind, y_epp, y0, beta, n, ym
     slope = y * n * beta / base if y < ratio * ymax else 0.0
     d = (seq - y) / (3.0 * G + slope)
     lo = d
+    h = 0.0
+    h_at_d = False  # h = hardening at the current d (the converged iterate): no second evaluation
     for _ in range(NEWTON_MAXIT):
         h, dh = hardening(eps_p + d, y0, beta, n, ymax)
         f = seq - 3.0 * G * d - ratio * h
         if abs(f) <= NEWTON_RTOL * seq:
+            h_at_d = True
             break
         if f > 0.0:
             lo = d
@@ -129,7 +132,8 @@ def radial_return_s(sxx, syy, sxy, eps_p, G, ratio, kind, y_epp, y0, beta, n, ym
         d = dn
         if hi - lo <= 1e-15 * (1.0 + hi):
             break
-    h, _ = hardening(eps_p + d, y0, beta, n, ymax)
+    if not h_at_d:
+        h, _ = hardening(eps_p + d, y0, beta, n, ymax)
     y = ratio * h
     fac = y / seq
     return sxx * fac, syy * fac, sxy * fac, d, y, h
