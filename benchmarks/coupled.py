@@ -24,7 +24,7 @@ import time
 from shockfriction.coupled.cone_shot import cone_deck
 from shockfriction.hydro.api import prepare, run_simulation
 
-LAWS = ("coulomb", "subgrid-thermoelastic", "subgrid-thermoelastoplastic", "subgrid-viscoplastic")
+LAWS = ("coulomb", "subgrid-thermoelastic", "subgrid-thermoelastoplastic")  # add subgrid-viscoplastic with --laws (slow)
 
 
 def timed_run(law: str, cell_um: float, threads: int, end_us: float) -> dict:

@@ -1,7 +1,7 @@
 """Two threads against one, on an idle machine and with a busy-loop process holding one core.
 
     PYTHONPATH=src python benchmarks/threads.py [--n 200] [--cycles 60] [--repeats 3]
-                                                [--policies policy,passive-only,libgomp-default] [--sizes]
+                                                [--policies policy,spin+governor,libgomp-default] [--sizes]
 
 For each waiting policy and each load (none / one busy-loop process pinned to core 0), a fresh
 Python process (numba reads the waiting policy when its threading layer starts) times the hydro
@@ -10,6 +10,7 @@ cycle of benchmarks/hydro.py's 200 x 200 block on 1 thread (serial kernels) and 
 2-thread/1-thread throughput ratio (target: never below 0.9).  Policies:
 
 * ``policy``: shockfriction.threading_policy as it stands (passive waiting and the thread governor);
+* ``spin+governor``: libgomp's default waiting (spin, then sleep) with the governor;
 * ``passive-only``: passive waiting without the governor;
 * ``libgomp-default``: libgomp's own default (spin 300000 rounds, then sleep), no governor: before the policy;
 * ``spin``: ``OMP_WAIT_POLICY=ACTIVE`` (workers never sleep), no governor;
@@ -33,7 +34,8 @@ import time
 
 POLICIES = {
     "policy": {},
-    "passive-only": {"_GOVERNOR": "0"},
+    "spin+governor": {"GOMP_SPINCOUNT": "300000"},
+    "passive-only": {"OMP_WAIT_POLICY": "PASSIVE", "_GOVERNOR": "0"},
     "libgomp-default": {"GOMP_SPINCOUNT": "300000", "_GOVERNOR": "0"},
     "spin": {"OMP_WAIT_POLICY": "ACTIVE", "_GOVERNOR": "0"},
     "workqueue": {"NUMBA_THREADING_LAYER": "workqueue", "_GOVERNOR": "0"},
@@ -114,7 +116,7 @@ def main() -> None:
     ap.add_argument("--n", type=int, default=200)
     ap.add_argument("--cycles", type=int, default=60)
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--policies", default="policy,passive-only,libgomp-default")
+    ap.add_argument("--policies", default="policy,spin+governor,libgomp-default")
     ap.add_argument("--sizes", action="store_true", help="ratio against the mesh size, no busy process")
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--governor", default="1", help=argparse.SUPPRESS)
