@@ -84,6 +84,8 @@ from shockfriction.friction.subgrid.thermoelastoplastic import finish_plastic_st
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
+#: the keys of ``viscoplastic=`` (ViscoplasticColumns keywords; see _init_viscoplastic)
+VISCOPLASTIC_OPTIONS = ("eta_vp", "inertia", "tresca", "depth", "depth_ratio", "far_end")
 #: per-node diagnostics of every model, arrays (n_columns,) (see the module docstring)
 NODE_DIAGNOSTICS = ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau", "friction_work",
                     "heat_interface", "heat_plastic", "plastic_work", "lag_temperature", "melt_energy", "tau_coulomb",
@@ -159,10 +161,9 @@ class SubgridInterface:
 
     def _init_viscoplastic(self, n, thickness, n_cells, grading, mu0, f, beta_Q, T0, opts):
         from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns
-        unknown = set(opts) - {"eta_vp", "inertia", "tresca", "depth", "depth_ratio", "far_end"}
+        unknown = set(opts) - set(VISCOPLASTIC_OPTIONS)
         if unknown:
-            raise ValueError(f"unknown viscoplastic options {sorted(unknown)}: expected eta_vp, inertia, tresca, "
-                             "depth, depth_ratio, far_end")
+            raise ValueError(f"unknown viscoplastic options {sorted(unknown)}: expected {', '.join(VISCOPLASTIC_OPTIONS)}")
         self.model = "viscoplastic"
         self.mu0, self.f, self.beta_Q = float(mu0), float(f), float(beta_Q)
         self.vp = ViscoplasticColumns(n, self.material, beta_T=self.beta_T, thickness=thickness, n_cells=n_cells,
