@@ -47,6 +47,11 @@ from shockfriction.materials.strength import (
 )
 
 SQRT3 = math.sqrt(3.0)
+#: smallest melt fraction of a film cell in its viscosity eta_L/phi (a cell of the SCG solid whose G vanishes
+#: before any melt, within microkelvins of T_F, is a film of this fraction)
+PHI_MIN = 1e-3
+#: a node of the enthalpy Newton that crosses the solidus or liquidus stops this fraction of the latent heat past it
+KINK = 1e-15
 OK, NO_CONVERGENCE, BAD_INPUT = 0, 2, 3
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
@@ -178,7 +183,10 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         mass[i] = rho * w[i] if inertia else 0.0
     # work arrays
     Tit = T.copy()   # temperatures of the last heat solve
-    Tmat = T.copy()  # temperatures that set G, Y, eta_L and the Tresca branch (relaxed Picard iterate)
+    Emat = e.copy()  # enthalpies that set G, Y, eta_L, the melt fractions and the Tresca branch (Picard iterate)
+    Tmat = T.copy()
+    phm = np.zeros((nn, nc))
+    phc = np.zeros((M, nc))  # melt fraction of each cell (the sub-cell film), as used by the mechanics
     hout = np.zeros(nc)
     vn = v.copy()
     G = np.empty((M, nc))
@@ -214,6 +222,8 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     bhi = np.full(nc, np.inf)
     xprev = np.zeros(nc)
     rprev = np.zeros(nc)
+    omega = np.ones(nc)  # Aitken relaxation factor of the bulk Picard update
+    rbulk = np.zeros((nn, nc))  # last bulk Picard residual e_heat - E
     for j in range(nc):
         status[j] = OK
         iters[j] = 0
@@ -222,14 +232,20 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 and math.isfinite(k[j]) and tau_cap[j] >= 0.0):
             status[j] = BAD_INPUT
     for pic in range(max_iter):
-        # ---- material state at the trial temperatures
+        # ---- material state at the trial enthalpies
+        for i in range(nn):
+            for j in range(nc):
+                Tmat[i, j], _, phm[i, j] = temperature_of(Emat[i, j], rho_c, rho_L, T0, T_F)
         for c in range(M):
             for j in range(nc):
                 Tc = 0.5 * (Tmat[c, j] + Tmat[c + 1, j])
-                r = scg_shear_ratio(F_N[j], Tc, g_p, h_p, xi, T_F)
+                ph = 0.5 * (phm[c, j] + phm[c + 1, j])
+                phc[c, j] = ph
+                r = scg_shear_ratio(F_N[j], Tc, g_p, h_p, xi, T_F) if ph <= 0.0 else 0.0
                 G[c, j] = G0 * r
                 kf[c, j] = r / SQRT3
-                eta[c, j] = liquid_viscosity(Tc, eta_F, E_R, T_F) if r <= 0.0 else 0.0
+                # a cell with melt carries it as a liquid layer ph dz in series with rigid solid (sub-cell film)
+                eta[c, j] = liquid_viscosity(Tc, eta_F, E_R, T_F) / max(ph, PHI_MIN) if r <= 0.0 else 0.0
         for j in range(nc):
             Zc[j] = math.sqrt(rho * G[M - 1, j])  # far-end impedance rho c_s with c_s^2 = G(p, T(h))/rho
             cp = tau_cap[j]
@@ -368,6 +384,10 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 src[0, j] += q_in[j] * dt
         # ---- heat: backward Euler on the enthalpy
         hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, htol, 100)
+        for j in range(nc):
+            if act[j] and not math.isfinite(hout[j]):
+                status[j] = NO_CONVERGENCE
+                act[j] = False
         # ---- Picard convergence on the temperatures that set G, Y and eta
         done = True
         for j in range(nc):
@@ -376,35 +396,57 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             iters[j] = pic + 1
             dmax = 0.0
             for i in range(nn):
-                d = abs(Tit[i, j] - Tmat[i, j])
+                d = abs(en[i, j] - Emat[i, j])
                 dmax = max(dmax, d)
-            if dmax > ptol:
+            if dmax > ptol * rho_c:  # ptol in kelvin of sensible heat
                 done = False
         if done:
             break
-        # next material temperatures: plain Picard in the column; at z = 0 (where the Tresca branch and the
-        # steepest softening act) a safeguarded secant on r(Theta) = T_heat(0; Theta) - Theta
+        # next material enthalpies: plain Picard in the column; at z = 0 (where the Tresca branch and the
+        # steepest softening act) a safeguarded secant on r(E) = e_heat(0; E) - E (the enthalpy, not T: T is flat
+        # while the surface melts)
         for j in range(nc):
             if not act[j]:
                 continue
-            x = Tmat[0, j]
-            r = Tit[0, j] - x
+            x = Emat[0, j]
+            r = en[0, j] - x
             if r > 0.0:
                 blo[j] = max(blo[j], x)
             else:
                 bhi[j] = min(bhi[j], x)
             if pic == 0:
-                xn = Tit[0, j]
+                xn = en[0, j]
             else:
                 den = r - rprev[j]
-                xn = x - r * (x - xprev[j]) / den if den != 0.0 else Tit[0, j]
+                xn = x - r * (x - xprev[j]) / den if den != 0.0 else en[0, j]
+            if bhi[j] - blo[j] <= 1e-3 * ptol * rho_c and abs(r) > ptol * rho_c:
+                # the bracket closed on a point that is not a root: it was built while the bulk below still moved
+                blo[j] = -np.inf
+                bhi[j] = np.inf
+                xn = x + omega[j] * r
             if not (blo[j] < xn < bhi[j]):
-                xn = 0.5 * (blo[j] + bhi[j]) if math.isfinite(bhi[j]) else Tit[0, j]
+                if math.isfinite(blo[j]) and math.isfinite(bhi[j]):
+                    xn = 0.5 * (blo[j] + bhi[j])
+                else:  # one-sided bracket: the plain Picard value lies on its open side
+                    xn = en[0, j]
             xprev[j] = x
             rprev[j] = r
-            Tmat[0, j] = xn
+            Emat[0, j] = xn
+            # bulk: Picard with Aitken (Irons-Tuck) relaxation, which damps the period-2 cycle of a melt front
+            # (a node that melts makes the film above it softer, which cools it below the melt, and back)
+            if pic > 0:
+                num = 0.0
+                den = 0.0
+                for i in range(1, nn):
+                    dr = (en[i, j] - Emat[i, j]) - rbulk[i, j]
+                    num += rbulk[i, j] * dr
+                    den += dr * dr
+                if den > 0.0:
+                    omega[j] = min(max(-omega[j] * num / den, 0.05), 1.0)
             for i in range(1, nn):
-                Tmat[i, j] = Tit[i, j]
+                rr = en[i, j] - Emat[i, j]
+                rbulk[i, j] = rr
+                Emat[i, j] += omega[j] * rr
     # ---- commit
     for j in range(nc):
         if status[j] != OK:
@@ -434,17 +476,41 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             energy[E_PLASTIC, j] += ssol * dg * dz[c]
             energy[E_VISCOUS, j] += eta[c, j] * gd * gd * dt * dz[c]
             energy[E_SOFTENING, j] += ssol * (ge_new - ge[c, j]) * dz[c] - del_el
-            eps[c, j] = eps[c, j] + abs(dg) / SQRT3 if G[c, j] > 0.0 else 0.0  # the melt forgets its hardening
+            if G[c, j] > 0.0:
+                eps[c, j] = eps[c, j] + abs(dg) / SQRT3
+            elif phc[c, j] >= 1.0:
+                eps[c, j] = 0.0  # a fully molten cell forgets its hardening
             ge[c, j] = ge_new
             Gs[c, j] = G[c, j]
             if G[c, j] <= 0.0:
-                thick += dz[c]
+                thick += min(phc[c, j], 1.0) * dz[c]
         film[j] = thick
         for i in range(nn):
             v[i, j] = vn[i, j]
             e[i, j] = en[i, j]
             T[i, j] = Tit[i, j]
     return 0
+
+
+@njit(cache=True)
+def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, j):
+    """Sum of squares of the backward-Euler enthalpy residuals of column j at the enthalpies x (n_nodes,)."""
+    nn = x.size
+    total = 0.0
+    Tp = 0.0
+    for i in range(nn):
+        Ti, _, _ = temperature_of(x[i], rho_c, rho_L, T0, T_F)
+        if i == nn - 1 and fixed_far:
+            break
+        res = w[i] * (x[i] - e[i, j]) - src[i, j]
+        if i > 0:
+            res += dt * kap / dz[i - 1] * (Ti - Tp)
+        if i < nn - 1:
+            Tn, _, _ = temperature_of(x[i + 1], rho_c, rho_L, T0, T_F)
+            res += dt * kap / dz[i] * (Ti - Tn)
+        total += res * res
+        Tp = Ti
+    return total
 
 
 @njit(cache=True)
@@ -461,8 +527,12 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
     di = np.empty((nn, nc))
     up = np.empty((nn, nc))
     rhs = np.empty((nn, nc))
+    trial = np.empty(nn)
+    r0 = np.zeros(nc)
     live = act.copy()
     hout = np.zeros(nc)
+    es = rho_c * (T_F - T0)  # solidus and liquidus enthalpies
+    es_l = es + rho_L
     for j in range(nc):
         if act[j]:
             for i in range(nn):
@@ -472,6 +542,8 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
             for j in range(nc):
                 if live[j]:
                     Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
+        for j in range(nc):
+            r0[j] = 0.0
         for i in range(nn):
             for j in range(nc):
                 if not live[j]:
@@ -496,27 +568,50 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                     lo[i, j] = 0.0
                 di[i, j] = d
                 rhs[i, j] = -res
+                r0[j] += res * res
         _thomas_masked(lo, di, up, rhs, live, nn, nc)
         any_live = False
-        es = rho_c * (T_F - T0)
         for j in range(nc):
             if not live[j]:
                 continue
+            # T(e) is monotone and piecewise linear: a node stops at the first breakpoint on its way and takes the
+            # next branch's slope at the next iteration; the step is halved while it does not reduce the residual
+            # (Newton across the melt kinks can otherwise cycle)
+            lam = 1.0
+            for _ in range(8):
+                same = True  # no node changed branch of T(e): the linearised step was exact
+                for i in range(nn):
+                    a = en[i, j]
+                    b = a + lam * rhs[i, j]
+                    if a <= es < b:
+                        b = es + KINK * rho_L
+                        same = False
+                    elif a <= es_l < b:
+                        b = es_l + KINK * rho_L
+                        same = False
+                    elif b <= es_l < a:
+                        b = es_l
+                        same = False
+                    elif b <= es < a:
+                        b = es
+                        same = False
+                    trial[i] = b
+                if same or _heat_residual2(trial, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, j) < r0[j]:
+                    break
+                lam *= 0.5
             dmax = 0.0
-            same = True  # no node changed branch of T(e): the linearised step was exact
             for i in range(nn):
-                a = en[i, j]
-                b = a + rhs[i, j]
-                if ((a <= es) != (b <= es)) or ((a <= es + rho_L) != (b <= es + rho_L)):
-                    same = False
-                en[i, j] = b
-                dmax = max(dmax, abs(rhs[i, j]))
-            if dmax <= tol * rho_c or same:
+                dmax = max(dmax, abs(trial[i] - en[i, j]))
+                en[i, j] = trial[i]
+            if (same and lam == 1.0) or dmax <= tol * rho_c:  # a full step on one branch is the exact solution
                 live[j] = False
             else:
                 any_live = True
         if not any_live:
             break
+    for j in range(nc):
+        if live[j]:  # not converged: flagged (its conservative update would amplify the error by D dt/dz^2)
+            hout[j] = math.nan
     for i in range(nn):
         for j in range(nc):
             if act[j]:
