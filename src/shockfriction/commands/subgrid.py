@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Optional
 
+import numpy as np
 import typer
 
 
@@ -54,6 +55,9 @@ def register(app: typer.Typer) -> None:
         for j, name in enumerate(res.names):
             tau = res.tau[-1, j]
             tau_txt = f", tau = {tau / 1e6:.4g} MPa" if tau == tau else ""
+            its = res.iterations[:, j]
+            limit = int(np.count_nonzero(its < 0))
+            limit_txt = f" ({limit} steps at the Picard sweep limit, kept: energy exact)" if limit else ""
             con.print(f"{name}: t = {res.t[-1] * 1e6:.4g} us, interface {res.theta_interface[-1, j]:.6g} K"
-                      f"{tau_txt}, max iterations {int(res.iterations[:, j].max())}", highlight=False)
+                      f"{tau_txt}, max iterations {int(np.abs(its).max())}{limit_txt}", highlight=False)
         con.print(f"{res.t.size} steps x {k} column(s); wrote " + ", ".join(str(f) for f in files), highlight=False)

@@ -10,7 +10,8 @@ Outputs (written row by row and flushed, so that a run that fails leaves readabl
 
 * ``history.csv``: ``t_s,theta_interface_K,tau_Pa,slip_macro_mps,slip_local_mps,flux_Wm2,iterations``
   at the end of every step; ``flux_Wm2`` is the flux entering the column (beta_T tau [v]);
-  tau and the slips are ``nan`` in the pure thermal mode;
+  tau and the slips are ``nan`` in the pure thermal mode; ``iterations`` < 0 (viscoplastic model): the step
+  reached the Picard sweep limit and was kept (its energy balance is exact);
 * ``profiles.csv``: ``t_s,z_m,theta_K,eps_p`` in long form at the output times (and t = 0).
 
 With several loadings (columns) the first writes these names and loading ``k`` writes

@@ -194,7 +194,7 @@ class SubgridInterface:
         self.slip_local[:] = c.slip_local
         self.flux_in[:] = c.flux_in
         self.slip_plastic[:] = self.slip_macro - self.slip_local
-        self.iterations[:] = np.abs(c.iterations)
+        self.iterations[:] = c.iterations  # negative: the Picard sweep limit was reached (step kept)
         self.eps_p[:, :-1] = c.eps.T
         self.eps_p[:, -1] = c.eps[-1]
         E = c.energies()
