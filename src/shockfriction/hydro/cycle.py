@@ -192,11 +192,15 @@ class Simulation:
         energy at t^n if ``want_ie`` (else 0)."""
         s = self.state
         forces = K.cell_forces_parallel if self.parallel else K.cell_forces_serial
+        # the parallel kernel's sum would depend on the thread count (which the governor changes): the
+        # history sums are taken in cell order, as the serial kernel does, so every count writes the same rows
         ie = forces(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
                     s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
                     self.shear_visc, *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy,
-                    not self.parallel, s.e, s.e_el, s.cell_mass, want_ie)
+                    not self.parallel, s.e, s.e_el, s.cell_mass, want_ie and not self.parallel)
         if self.parallel:
+            if want_ie:
+                ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
             K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
         return ie
 
@@ -276,6 +280,8 @@ class Simulation:
             return
         heat = K.viscous_heat_parallel if self.parallel else K.viscous_heat_serial
         qv = heat(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv, s.cell_mass, s.e)
+        if self.parallel:  # the sum in cell order (see _forces)
+            qv = K.viscous_heat_sum(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv)
         self._record(ke, ie + 0.5 * qv + (q_int - q_before), budget)
 
     def _apply_position_shifts(self) -> None:
@@ -315,6 +321,9 @@ class Simulation:
         if self._pending_row is not None:  # the history row at t^n, now that its viscous heat is known
             ke, ie, dq, budget = self._pending_row
             self._pending_row = None
+            if self.parallel:  # the sum in cell order (see _forces); the velocities are still those of the step
+                qv = K.viscous_heat_sum(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy,
+                                        s.dt_velocity)
             self._record(ke, ie + 0.5 * qv + dq, budget)
         if bad >= 0:
             self._fail(bad, code)

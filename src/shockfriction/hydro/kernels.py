@@ -299,6 +299,15 @@ def viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c):
     return -0.5 * dt * w
 
 
+@njit(cache=True)
+def viscous_heat_sum(conn, vcorner, vx0, vy0, vx1, vy1, dt):
+    """sum_c of :func:`viscous_cell_heat` in cell order (the serial kernels' sum, whatever the thread count)."""
+    total = 0.0
+    for c in range(conn.shape[0]):
+        total += viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c)
+    return total
+
+
 viscous_heat_serial = njit(cache=True)(_viscous_heat_impl)
 viscous_heat_parallel = njit(cache=True, parallel=True)(_twin(_viscous_heat_impl, "_parallel"))
 
