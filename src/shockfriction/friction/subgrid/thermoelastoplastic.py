@@ -38,11 +38,20 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.core.options import DefaultOptions
 
 from shockfriction.friction.subgrid.rootfind import B, BRENT_STATE, C, FB, brent_feed, brent_next, brent_start
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, OK, SQRT3,
                                                            corrected_slip, friction_stress)
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, scg_shear_ratio
+
+
+# The kernels of the root iteration allocate nothing: the per-column solve is compiled without numba's
+# reference counting (``_nrt=False``) and its helpers are inlined into it (``inline='always'``), so that the
+# array views and arguments of each evaluation cost no atomic increment/decrement
+# (docs/theory/subgrid-layout.md, section 6).  Only the speed depends on it: a numba without the
+# option compiles the same kernel with reference counting.
+NO_REFCOUNT = {"_nrt": False} if hasattr(DefaultOptions, "_nrt") else {}
 
 
 # ln of the largest closed-form (1 + beta eps_target) used: x^(1/n) is capped at exp(300) ~ 1e130, so that
@@ -51,7 +60,13 @@ LOG_TARGET_MAX = 300.0
 TARGET_MAX = math.exp(LOG_TARGET_MAX)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def visited(q, depth, q_hi, nn):
+    """Number of leading nodes that an evaluation at q writes: ``depth`` for 0 <= q <= q_hi, else all."""
+    return depth if (depth >= 0 and 0.0 <= q <= q_hi) else nn
+
+
+@njit(cache=True, inline="always")
 def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out,
                        depth=-1, q_hi=math.inf):
     """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit;
@@ -74,7 +89,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     Y0, beta, n = p[I_Y0], p[I_BETA], p[I_N]
     g, h, xi, T_F = p[I_G], p[I_H], p[I_XI], p[I_TF]
     nn = theta_ad.shape[0]
-    m = depth if (depth >= 0 and 0.0 <= q <= q_hi) else nn
+    m = visited(q, depth, q_hi, nn)
     if tau <= 0.0:
         for i in range(m):
             out[i] = 0.0
@@ -119,7 +134,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
 FRONT_MARGIN = 1e-9
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def suffix_max(ad, blk, m):
     """max_{i >= m} ad[i] from the block suffix maxima blk[b] = max_{i >= 8b} ad[i] (m < len(ad))."""
     nn = ad.shape[0]
@@ -136,7 +151,7 @@ def suffix_max(ad, blk, m):
     return top
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def suffix_min(values, blk, m):
     """min_{i >= m} values[i] from the block suffix minima blk[b] = min_{i >= 8b} values[i] (m < len(values))."""
     nn = values.shape[0]
@@ -166,7 +181,7 @@ def block_suffix_min(values, blk, top):
         blk[b] = low
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _front_ok(m, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
     """Every node i >= m elastic: G(C_m)/G0 H_m > s (see :func:`plastic_depth`)."""
     c = suffix_max(ad, ad_blk, m) + q_hi * unit_suffix_max[m]
@@ -176,7 +191,7 @@ def _front_ok(m, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h
     return r > 0.0 and r * suffix_min(hard, hard_blk, m) > s
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, p, guess=-1):
     """Smallest m such that every node i >= m stays elastic for any tau <= ``tau_max`` and q in [0, q_hi].
 
@@ -270,7 +285,7 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
         lag[j] = top / rho_c
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, unit_max, F_N, v_free, v_prev,
               k, tau_cap, beta_T, f, p, dt, deps, depth, q_hi):
     """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate)."""
@@ -284,7 +299,7 @@ def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, 
         rate = SQRT3 * integral / dt
         if rate > v_mac:  # kinematic limit: the layer takes at most the macroscopic slip of the step
             scale = v_mac / rate
-            m = depth if (depth >= 0 and 0.0 <= q <= q_hi) else deps.shape[0]
+            m = visited(q, depth, q_hi, deps.shape[0])
             for i in range(m):
                 deps[i] *= scale
             rate = v_mac
@@ -313,11 +328,21 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     from there on, and only nodes above it are visited by the root iterations (``use_front=False``:
     every node, the reference that the tests compare against).
     """
-    st = np.empty(BRENT_STATE)
+    nn = theta_unit.shape[0]
+    _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
+                   beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
+                   status, depth, use_front, np.empty(BRENT_STATE), np.empty(nn))
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
+                   beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
+                   status, depth, use_front, st, unit_sfx):
+    """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes)."""
     T_F = p[I_TF]
     a0 = theta_unit[0]
     nn = theta_unit.shape[0]
-    unit_sfx = np.empty(nn)  # suffix maxima of max(theta_unit, 0): the same for every column
+    # unit_sfx: suffix maxima of max(theta_unit, 0), the same for every column
     run = 0.0
     for i in range(nn - 1, -1, -1):
         if theta_unit[i] > run:
