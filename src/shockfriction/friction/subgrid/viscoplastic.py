@@ -82,12 +82,12 @@ def temperature_of(e, rho_c, rho_L, T0, T_F):
 
 
 @njit(cache=True)
-def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, p):
+def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax):
     """Plastic increment x = d gamma_p >= 0 of |s_tr| - (G + eta_vp/dt) x - Y(eps + x/sqrt3) k_fac = 0,
     k_fac = (G/G0)/sqrt(3); returns (x, d|s'|/d|s_tr|).  The left side is convex and decreasing in x,
     so Newton from x = 0 climbs monotonically to the root (no overshoot).  ``y_start`` = min(Ymax, Y0 (1 + beta
-    eps)^n), the hardening at the start of the step (computed once per step)."""
-    Y0, beta, n, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
+    eps)^n), the hardening at the start of the step (computed once per step).  Scalars only (no arrays: an
+    array argument of a per-cell call costs an atomic reference-count pair)."""
     if G <= 0.0:
         return 0.0, 0.0
     if s_abs <= y_start * k_fac:
@@ -132,22 +132,22 @@ def _thomas_masked(lo, di, up, rhs, act, nn, nc):
 
 
 @njit(cache=True)
-def _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th):
-    """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of cell c.
+def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta, n, Ymax, eta_vp, th):
+    """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of one cell
+    (dv, dvn = v_c - v_{c+1} at the old and new velocities; the other arguments the cell's values).
 
     th = 1/2 (inertia: implicit midpoint) or 1 (quasi-static: backward Euler); gd and S are the
     th-weighted strain rate and stress that enter the momentum balance."""
-    gd = ((1.0 - th) * (v[c, j] - v[c + 1, j]) + th * (vn[c, j] - vn[c + 1, j])) / dz[c]
-    g = G[c, j]
+    gd = ((1.0 - th) * dv + th * dvn) / dzc
     if g <= 0.0:  # molten cell: no solid stress; its stored elastic strain is released as plastic strain
-        S = (1.0 - th) * sold[c, j] + eta[c, j] * gd
-        return gd, 0.0, ge[c, j] + dt * gd, S, eta[c, j] * th / dz[c]
-    s_tr = g * (ge[c, j] + dt * gd)
-    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, eps[c, j], yh[c, j], kf[c, j], p)
+        S = (1.0 - th) * soldc + etac * gd
+        return gd, 0.0, gec + dt * gd, S, etac * th / dzc
+    s_tr = g * (gec + dt * gd)
+    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, epsc, yhc, kfc, Y0, beta, n, Ymax)
     sg = 1.0 if s_tr >= 0.0 else -1.0
     snew = s_tr - sg * g * x
-    S = (1.0 - th) * sold[c, j] + th * snew + eta[c, j] * gd
-    K = (th * dsds * g * dt + eta[c, j]) * th / dz[c]
+    S = (1.0 - th) * soldc + th * snew + etac * gd
+    K = (th * dsds * g * dt + etac) * th / dzc
     return gd, snew, sg * x, S, K
 
 
@@ -176,6 +176,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     fixed_far = math.isfinite(T_far)
     mtol, htol, ptol = par[P_MECH_TOL], par[P_HEAT_TOL], par[P_PICARD_TOL]
     G0, T_F = p[I_G0], p[I_TF]
+    Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
     tresca = f * p[I_YMAX] / SQRT3
     mass = np.empty(nn)
@@ -261,8 +262,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             for c in range(M):
                 for j in range(nc):
                     if act[j]:
-                        gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p,
-                                                        eta_vp, th)
+                        gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vn[c, j] - vn[c + 1, j], dz[c], dt,
+                                                        G[c, j], ge[c, j], eps[c, j], yh[c, j], eta[c, j], kf[c, j],
+                                                        sold[c, j], Y0, beta_h, n_h, Ymax, eta_vp, th)
                         S[c + 1, j] = Sm
                         Kc[c, j] = K
             for j in range(nc):
@@ -351,7 +353,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         for c in range(M):
             for j in range(nc):
                 if act[j]:
-                    gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th)
+                    gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vn[c, j] - vn[c + 1, j], dz[c], dt, G[c, j],
+                                                    ge[c, j], eps[c, j], yh[c, j], eta[c, j], kf[c, j],
+                                                    sold[c, j], Y0, beta_h, n_h, Ymax, eta_vp, th)
                     gdm[c, j] = gd
                     S[c + 1, j] = Sm
                     snew[c, j] = sn
