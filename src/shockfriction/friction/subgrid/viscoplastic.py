@@ -61,6 +61,10 @@ N_PAR = 17
 (E_FRICTION, E_INTERFACE, E_COLUMN_WORK, E_PLASTIC, E_VISCOUS, E_SOFTENING, E_RADIATED, E_HEAT_OUT,
  E_NUMERICAL) = range(9)
 N_ENERGY = 9
+# planes of the kernel's scratch block (N_WORK, n_nodes + 1, n_columns)
+(W_TIT, W_EMAT, W_TMAT, W_PHM, W_VN, W_LO, W_DI, W_UP, W_RHS, W_S, W_SRC, W_EN, W_RBULK, W_TK, W_DT, W_PHC, W_G,
+ W_KF, W_ETA, W_SOLD, W_YH, W_KC, W_DGP, W_SNEW, W_GDM) = range(25)
+N_WORK = 25
 
 
 @njit(cache=True)
@@ -153,7 +157,7 @@ def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta,
 
 @njit(cache=True)
 def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                      tau, v_half, v_local, q_in, film, iters, status, energy):
+                      tau, v_half, v_local, q_in, film, iters, status, energy, work):
     """Advance every column by dt (state arrays updated in place; see the module docstring).
 
     State: v (nn, nc) velocity, ge (M, nc) elastic shear strain, Gs (M, nc) modulus of the stored stress
@@ -161,7 +165,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     Per column inputs: F_N normal stress, v_free = [V*], v_prev = [V]^{n-1/2}, k = S dt (1/m_s + 1/m_g),
     tau_cap = min(mu0 F_N, tau_stick).  Outputs: tau = |s(0)|, v_half = [V]^{n+1/2}, v_local = slip at the
     surface (V - v(0), midpoint), q_in = beta_T tau v_local, film = molten thickness (m), iters (Picard),
-    status, energy (N_ENERGY, nc) accumulated.
+    status, energy (N_ENERGY, nc) accumulated.  work: scratch (N_WORK, nn + 1, nc), contents irrelevant.
     """
     nn, nc = v.shape
     M = nn - 1
@@ -182,35 +186,31 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     mass = np.empty(nn)
     for i in range(nn):
         mass[i] = rho * w[i] if inertia else 0.0
-    # work arrays
-    Tit = T.copy()   # temperatures of the last heat solve
-    Emat = e.copy()  # enthalpies that set G, Y, eta_L, the melt fractions and the Tresca branch (Picard iterate)
-    Tmat = T.copy()
-    phm = np.zeros((nn, nc))
-    phc = np.zeros((M, nc))  # melt fraction of each cell (the sub-cell film), as used by the mechanics
+    # work arrays: planes of the scratch block (no allocation per step: fresh pages cost a fault each)
+    Tit, Emat, Tmat, phm, vn, lo, di, up, rhs, S, src, en, rbulk, Tk, dT = (
+        work[W_TIT, :nn], work[W_EMAT, :nn], work[W_TMAT, :nn], work[W_PHM, :nn], work[W_VN, :nn], work[W_LO, :nn],
+        work[W_DI, :nn], work[W_UP, :nn], work[W_RHS, :nn], work[W_S], work[W_SRC, :nn], work[W_EN, :nn],
+        work[W_RBULK, :nn], work[W_TK, :nn], work[W_DT, :nn])
+    phc, G, kf, eta, sold, yh, Kc, dgp, snew, gdm = (
+        work[W_PHC, :M], work[W_G, :M], work[W_KF, :M], work[W_ETA, :M], work[W_SOLD, :M], work[W_YH, :M],
+        work[W_KC, :M], work[W_DGP, :M], work[W_SNEW, :M], work[W_GDM, :M])
+    # Tit: temperatures of the last heat solve; Emat: enthalpies that set G, Y, eta_L, the melt fractions and the
+    # Tresca branch (Picard iterate); phc: melt fraction of each cell (the sub-cell film) as used by the mechanics;
+    # yh: hardening at the start of the step; S[0] surface traction, S[c+1] cell c midpoint stress, S[nn] far end;
+    # rbulk: last bulk Picard residual e_heat - E.  phc, dgp, snew, gdm, rbulk are written before they are read.
+    for i in range(nn):
+        for j in range(nc):
+            Tit[i, j] = T[i, j]
+            Tmat[i, j] = T[i, j]
+            Emat[i, j] = e[i, j]
+            en[i, j] = e[i, j]
+            vn[i, j] = v[i, j]
     hout = np.zeros(nc)
-    vn = v.copy()
-    G = np.empty((M, nc))
-    kf = np.empty((M, nc))
-    eta = np.empty((M, nc))
-    sold = np.empty((M, nc))
-    yh = np.empty((M, nc))  # hardening at the start of the step
     for c in range(M):
         for j in range(nc):
             sold[c, j] = Gs[c, j] * ge[c, j]
             y = p[I_Y0] * (1.0 + p[I_BETA] * eps[c, j]) ** p[I_N]
             yh[c, j] = min(p[I_YMAX], y)
-    lo = np.empty((nn, nc))
-    di = np.empty((nn, nc))
-    up = np.empty((nn, nc))
-    rhs = np.empty((nn, nc))
-    S = np.empty((nn + 1, nc))  # S[0] surface traction, S[c+1] cell c midpoint stress, S[nn] far end
-    Kc = np.empty((M, nc))
-    src = np.zeros((nn, nc))
-    dgp = np.zeros((M, nc))
-    snew = np.zeros((M, nc))
-    gdm = np.zeros((M, nc))
-    en = e.copy()
     act = np.ones(nc, np.bool_)
     stick = np.zeros(nc, np.bool_)
     sgn = np.empty(nc)
@@ -224,7 +224,6 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     xprev = np.zeros(nc)
     rprev = np.zeros(nc)
     omega = np.ones(nc)  # Aitken relaxation factor of the bulk Picard update
-    rbulk = np.zeros((nn, nc))  # last bulk Picard residual e_heat - E
     for j in range(nc):
         status[j] = OK
         iters[j] = 0
@@ -387,7 +386,8 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 q_in[j] = beta_T * ts[j] * (vm - v0m)  # >= 0: the traction opposes the local slip
                 src[0, j] += q_in[j] * dt
         # ---- heat: backward Euler on the enthalpy
-        hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, htol, 100)
+        hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, htol, 100,
+                           Tk, dT, lo, di, up, rhs)
         for j in range(nc):
             if act[j] and not math.isfinite(hout[j]):
                 status[j] = NO_CONVERGENCE
@@ -518,19 +518,15 @@ def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far,
 
 
 @njit(cache=True)
-def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, tol, max_iter):
+def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, tol, max_iter,
+                Tk, dT, lo, di, up, rhs):
     """Backward Euler on the enthalpy, w_i (e'_i - e_i) = dt [kappa dT'/dz]_{i-1/2}^{i+1/2} + src_i (J/m^2), by
     Newton in e' (dT/de = 0 in the mushy zone); then the conservative update e' = e + (src + dt flux(T'))/w from the
     last iterate's temperatures, so that the discrete energy balance is exact.  Far end insulated, or held at T_far
-    (the heat leaving there is returned per column, J/m^2).  Fills en (new enthalpy) and Tout (T(en))."""
+    (the heat leaving there is returned per column, J/m^2).  Fills en (new enthalpy) and Tout (T(en)); Tk, dT, lo,
+    di, up, rhs (n_nodes, nc) are scratch."""
     nn, nc = e.shape
     M = nn - 1
-    Tk = np.empty((nn, nc))
-    dT = np.empty((nn, nc))
-    lo = np.empty((nn, nc))
-    di = np.empty((nn, nc))
-    up = np.empty((nn, nc))
-    rhs = np.empty((nn, nc))
     trial = np.empty(nn)
     r0 = np.zeros(nc)
     live = act.copy()
@@ -737,6 +733,7 @@ class ViscoplasticColumns:
             setattr(self, name, np.zeros(nc))
         self.iterations = np.zeros(nc, dtype=np.int64)
         self.status = np.zeros(nc, dtype=np.int64)
+        self._work = np.empty((N_WORK, nn + 1, nc))  # the kernel's scratch, allocated once
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
     @property
@@ -759,7 +756,7 @@ class ViscoplasticColumns:
         viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
                           *arr, self.scg, self.par, float(dt), self.max_picard, self.tau, self._v_half,
                           self.slip_local, self.flux_in, self.film_thickness, self.iterations, self.status,
-                          self.energy)
+                          self.energy, self._work)
         self.slip_macro[:] = np.abs(0.5 * (self._v_half + arr[2]))
         return self.tau.copy(), self._v_half.copy()
 
