@@ -52,6 +52,9 @@ SQRT3 = math.sqrt(3.0)
 PHI_MIN = 1e-3
 #: a node of the enthalpy Newton that crosses the solidus or liquidus stops this fraction of the latent heat past it
 KINK = 1e-15
+#: the first Picard iterate extrapolates the last two enthalpy increments (quadratic) where the history is smooth,
+#: max|de1 - de2| <= SMOOTH max|de1|, else the last one (linear): a period-2 melt-front history extrapolates badly
+SMOOTH = 0.2
 OK, NO_CONVERGENCE, BAD_INPUT = 0, 2, 3
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
@@ -157,7 +160,7 @@ def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta,
 
 @njit(cache=True)
 def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                      tau, v_half, v_local, q_in, film, iters, status, energy, work):
+                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work):
     """Advance every column by dt (state arrays updated in place; see the module docstring).
 
     State: v (nn, nc) velocity, ge (M, nc) elastic shear strain, Gs (M, nc) modulus of the stored stress
@@ -165,7 +168,10 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     Per column inputs: F_N normal stress, v_free = [V*], v_prev = [V]^{n-1/2}, k = S dt (1/m_s + 1/m_g),
     tau_cap = min(mu0 F_N, tau_stick).  Outputs: tau = |s(0)|, v_half = [V]^{n+1/2}, v_local = slip at the
     surface (V - v(0), midpoint), q_in = beta_T tau v_local, film = molten thickness (m), iters (Picard),
-    status, energy (N_ENERGY, nc) accumulated.  work: scratch (N_WORK, nn + 1, nc), contents irrelevant.
+    status, energy (N_ENERGY, nc) accumulated.  de, de2 (nn, nc): the enthalpy changes of the last two steps
+    (updated); the first Picard iterate is the extrapolation E = e + a1 de + a2 de2, pw = (a1, a2, a1 of the linear
+    one) from predictor_weights (zeros: none), linear where the history is not smooth (see SMOOTH); it moves the
+    answer within the Picard tolerance only.  work: scratch (N_WORK, nn + 1, nc), contents irrelevant.
     """
     nn, nc = v.shape
     M = nn - 1
@@ -198,11 +204,24 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     # Tresca branch (Picard iterate); phc: melt fraction of each cell (the sub-cell film) as used by the mechanics;
     # yh: hardening at the start of the step; S[0] surface traction, S[c+1] cell c midpoint stress, S[nn] far end;
     # rbulk: last bulk Picard residual e_heat - E.  phc, dgp, snew, gdm, rbulk are written before they are read.
+    b1 = np.empty(nc)
+    b2 = np.empty(nc)
+    for j in range(nc):
+        b1[j] = 0.0
+        b2[j] = 0.0
+    for i in range(nn):
+        for j in range(nc):
+            b1[j] = max(b1[j], abs(de[i, j]))
+            b2[j] = max(b2[j], abs(de[i, j] - de2[i, j]))
+    for j in range(nc):  # quadratic predictor on a smooth history, else linear
+        quad = b2[j] <= SMOOTH * b1[j]
+        b1[j] = pw[0] if quad else pw[2]
+        b2[j] = pw[1] if quad else 0.0
     for i in range(nn):
         for j in range(nc):
             Tit[i, j] = T[i, j]
             Tmat[i, j] = T[i, j]
-            Emat[i, j] = e[i, j]
+            Emat[i, j] = e[i, j] + b1[j] * de[i, j] + b2[j] * de2[i, j]
             en[i, j] = e[i, j]
             vn[i, j] = v[i, j]
     hout = np.zeros(nc)
@@ -454,6 +473,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     # ---- commit
     for j in range(nc):
         if status[j] != OK:
+            for i in range(nn):
+                de[i, j] = 0.0
+                de2[i, j] = 0.0
             continue
         if iters[j] >= max_iter:
             iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is still exact)
@@ -491,6 +513,8 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         film[j] = thick
         for i in range(nn):
             v[i, j] = vn[i, j]
+            de2[i, j] = de[i, j]
+            de[i, j] = en[i, j] - e[i, j]
             e[i, j] = en[i, j]
             T[i, j] = Tit[i, j]
     return 0
@@ -634,6 +658,20 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
     return hout
 
 
+def predictor_weights(h, h1, h2):
+    """Weights (a1, a2, a1_lin) of the first Picard iterate E = e + a1 de1 + a2 de2: the quadratic through the
+    enthalpies of the last three steps (increments de1 over h1, de2 over h2) at the step h (capped at h1),
+    e + d1 h + D2 h (h + h1) with d1 = de1/h1, D2 = (de1/h1 - de2/h2)/(h1 + h2); a1_lin = h/h1 the linear one
+    (also used with one step of history); zeros without."""
+    if h1 <= 0.0:
+        return np.zeros(3)
+    h = min(h, h1)
+    if h2 <= 0.0:
+        return np.array([h / h1, 0.0, h / h1])
+    q = h * (h + h1) / (h1 + h2)
+    return np.array([h / h1 + q / h1, -q / h2, h / h1])
+
+
 # --------------------------------------------------------------------------- the columns
 #: default overstress viscosity eta_vp (Pa s) when the material has none (see docs/theory/viscoplastic.md)
 DEFAULT_ETA_VP = 50.0
@@ -733,6 +771,9 @@ class ViscoplasticColumns:
             setattr(self, name, np.zeros(nc))
         self.iterations = np.zeros(nc, dtype=np.int64)
         self.status = np.zeros(nc, dtype=np.int64)
+        self._de = np.zeros((nn, nc))  # enthalpy changes of the last two steps (the Picard predictor)
+        self._de2 = np.zeros((nn, nc))
+        self._dt_prev = (0.0, 0.0)  # their time steps (0: none)
         self._work = np.empty((N_WORK, nn + 1, nc))  # the kernel's scratch, allocated once
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
@@ -746,17 +787,20 @@ class ViscoplasticColumns:
         liquid = T >= self.T_F
         self.e[...] = self.rho_c * (T - self.T0) + np.where(liquid, self.rho_L, 0.0)
         self.T[...] = T
+        self._dt_prev = (0.0, 0.0)  # no prediction across an imposed state
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
     def step(self, sigma_n, v_free, slip_prev, k, tau_cap, dt: float):
         """Advance all columns by dt; return (tau, v_half) (see the class docstring)."""
         nc = self.n_columns
+        pw = predictor_weights(float(dt), *self._dt_prev)
+        self._dt_prev = (float(dt), self._dt_prev[0])
         arr = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float), (nc,)))
                for a in (sigma_n, v_free, slip_prev, k, tau_cap)]
         viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
                           *arr, self.scg, self.par, float(dt), self.max_picard, self.tau, self._v_half,
                           self.slip_local, self.flux_in, self.film_thickness, self.iterations, self.status,
-                          self.energy, self._work)
+                          self.energy, self._de, self._de2, pw, self._work)
         self.slip_macro[:] = np.abs(0.5 * (self._v_half + arr[2]))
         return self.tau.copy(), self._v_half.copy()
 
