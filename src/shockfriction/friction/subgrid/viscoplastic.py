@@ -243,6 +243,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     xprev = np.zeros(nc)
     rprev = np.zeros(nc)
     omega = np.ones(nc)  # Aitken relaxation factor of the bulk Picard update
+    dmx = np.empty(nc)  # per-column maxima and sums (the loops run over the nodes, columns innermost)
+    anum = np.empty(nc)
+    aden = np.empty(nc)
     for j in range(nc):
         status[j] = OK
         iters[j] = 0
@@ -326,17 +329,20 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                         di[M, j] = 1.0
                         rhs[M, j] = -vn[M, j]
             _thomas_masked(lo, di, up, rhs, act, nn, nc)
+            # plain Newton; damped when it cycles between plastic and elastic cells (piecewise-smooth return)
+            damp = 1.0 if it < 25 else (0.5 if it < 100 else 0.25)
+            for j in range(nc):
+                dmx[j] = 0.0
+            for i in range(nn):
+                for j in range(nc):
+                    if act[j]:
+                        vn[i, j] += damp * rhs[i, j]
+                        dmx[j] = max(dmx[j], abs(rhs[i, j]))
             any_act = False
             for j in range(nc):
                 if not act[j]:
                     continue
-                dmax = 0.0
-                # plain Newton; damped when it cycles between plastic and elastic cells (piecewise-smooth return)
-                damp = 1.0 if it < 25 else (0.5 if it < 100 else 0.25)
-                for i in range(nn):
-                    vn[i, j] += damp * rhs[i, j]
-                    dmax = max(dmax, abs(rhs[i, j]))
-                if dmax <= mtol * (abs(v_free[j]) + abs(vn[0, j]) + 1e-3):
+                if dmx[j] <= mtol * (abs(v_free[j]) + abs(vn[0, j]) + 1e-3):
                     # converged on this branch: is the branch right?  (friction opposes the local slip)
                     vh = v_free[j] - ts[j] * k[j]
                     if stick[j]:
@@ -366,7 +372,8 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         # ---- final cell states, heat sources
         for j in range(nc):
             act[j] = status[j] == OK
-            for i in range(nn):
+        for i in range(nn):
+            for j in range(nc):
                 src[i, j] = 0.0
         for c in range(M):
             for j in range(nc):
@@ -412,17 +419,18 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 status[j] = NO_CONVERGENCE
                 act[j] = False
         # ---- Picard convergence on the temperatures that set G, Y and eta
+        for j in range(nc):
+            dmx[j] = 0.0
+        for i in range(nn):
+            for j in range(nc):
+                if act[j]:
+                    dmx[j] = max(dmx[j], abs(en[i, j] - Emat[i, j]))
         done = True
         for j in range(nc):
-            if not act[j]:
-                continue
-            iters[j] = pic + 1
-            dmax = 0.0
-            for i in range(nn):
-                d = abs(en[i, j] - Emat[i, j])
-                dmax = max(dmax, d)
-            if dmax > ptol * rho_c:  # ptol in kelvin of sensible heat
-                done = False
+            if act[j]:
+                iters[j] = pic + 1
+                if dmx[j] > ptol * rho_c:  # ptol in kelvin of sensible heat
+                    done = False
         if done:
             break
         # next material enthalpies: plain Picard in the column; at z = 0 (where the Tresca branch and the
@@ -455,21 +463,27 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             xprev[j] = x
             rprev[j] = r
             Emat[0, j] = xn
-            # bulk: Picard with Aitken (Irons-Tuck) relaxation, which damps the period-2 cycle of a melt front
-            # (a node that melts makes the film above it softer, which cools it below the melt, and back)
-            if pic > 0:
-                num = 0.0
-                den = 0.0
-                for i in range(1, nn):
-                    dr = (en[i, j] - Emat[i, j]) - rbulk[i, j]
-                    num += rbulk[i, j] * dr
-                    den += dr * dr
-                if den > 0.0:
-                    omega[j] = min(max(-omega[j] * num / den, 0.05), 1.0)
+        # bulk: Picard with Aitken (Irons-Tuck) relaxation, which damps the period-2 cycle of a melt front
+        # (a node that melts makes the film above it softer, which cools it below the melt, and back)
+        if pic > 0:
+            for j in range(nc):
+                anum[j] = 0.0
+                aden[j] = 0.0
             for i in range(1, nn):
-                rr = en[i, j] - Emat[i, j]
-                rbulk[i, j] = rr
-                Emat[i, j] += omega[j] * rr
+                for j in range(nc):
+                    if act[j]:
+                        dr = (en[i, j] - Emat[i, j]) - rbulk[i, j]
+                        anum[j] += rbulk[i, j] * dr
+                        aden[j] += dr * dr
+            for j in range(nc):
+                if act[j] and aden[j] > 0.0:
+                    omega[j] = min(max(-omega[j] * anum[j] / aden[j], 0.05), 1.0)
+        for i in range(1, nn):
+            for j in range(nc):
+                if act[j]:
+                    rr = en[i, j] - Emat[i, j]
+                    rbulk[i, j] = rr
+                    Emat[i, j] += omega[j] * rr
     # ---- commit
     for j in range(nc):
         if status[j] != OK:
