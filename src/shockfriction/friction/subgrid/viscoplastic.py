@@ -556,6 +556,21 @@ def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far,
 
 
 @njit(cache=True)
+def _kink_stop(a, b, es, es_l, rho_L):
+    """Newton target b of a node at enthalpy a, stopped at the first breakpoint of T(e) (solidus es, liquidus es_l)
+    on its way: KINK rho_L past it going up, at it going down; returns (target, stopped)."""
+    if a <= es < b:
+        return es + KINK * rho_L, True
+    if a <= es_l < b:
+        return es_l + KINK * rho_L, True
+    if b <= es_l < a:
+        return es_l, True
+    if b <= es < a:
+        return es, True
+    return b, False
+
+
+@njit(cache=True)
 def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, tol, max_iter,
                 Tk, dT, lo, di, up, rhs):
     """Backward Euler on the enthalpy, w_i (e'_i - e_i) = dt [kappa dT'/dz]_{i-1/2}^{i+1/2} + src_i (J/m^2), by
@@ -568,12 +583,14 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
     trial = np.empty(nn)
     r0 = np.zeros(nc)
     live = act.copy()
+    exact = np.zeros(nc, np.bool_)
+    dmx = np.zeros(nc)
     hout = np.zeros(nc)
     es = rho_c * (T_F - T0)  # solidus and liquidus enthalpies
     es_l = es + rho_L
-    for j in range(nc):
-        if act[j]:
-            for i in range(nn):
+    for i in range(nn):
+        for j in range(nc):
+            if act[j]:
                 en[i, j] = e[i, j]
     for it in range(max_iter):
         for i in range(nn):
@@ -583,6 +600,8 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
         for j in range(nc):
             r0[j] = 0.0
         for i in range(nn):
+            al = dt * kap / dz[i - 1] if i > 0 else 0.0
+            au = dt * kap / dz[i] if i < M else 0.0
             for j in range(nc):
                 if not live[j]:
                     continue
@@ -591,15 +610,13 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 lo[i, j] = 0.0
                 up[i, j] = 0.0
                 if i > 0:
-                    a = dt * kap / dz[i - 1]
-                    res += a * (Tk[i, j] - Tk[i - 1, j])
-                    d += a * dT[i, j]
-                    lo[i, j] = -a * dT[i - 1, j]
+                    res += al * (Tk[i, j] - Tk[i - 1, j])
+                    d += al * dT[i, j]
+                    lo[i, j] = -al * dT[i - 1, j]
                 if i < M:
-                    a = dt * kap / dz[i]
-                    res += a * (Tk[i, j] - Tk[i + 1, j])
-                    d += a * dT[i, j]
-                    up[i, j] = -a * dT[i + 1, j]
+                    res += au * (Tk[i, j] - Tk[i + 1, j])
+                    d += au * dT[i, j]
+                    up[i, j] = -au * dT[i + 1, j]
                 if i == M and fixed_far:
                     res = 0.0
                     d = 1.0
@@ -608,43 +625,47 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 rhs[i, j] = -res
                 r0[j] += res * res
         _thomas_masked(lo, di, up, rhs, live, nn, nc)
-        any_live = False
+        # T(e) is monotone and piecewise linear: a node stops at the first breakpoint on its way and takes the
+        # next branch's slope at the next iteration; the step is halved while it does not reduce the residual
+        # (Newton across the melt kinks can otherwise cycle).  The full step first, for all columns (dT holds the
+        # trial enthalpies): where no node changes branch of T(e) the linearised step is exact
         for j in range(nc):
-            if not live[j]:
+            exact[j] = True
+            dmx[j] = 0.0
+        for i in range(nn):
+            for j in range(nc):
+                if live[j]:
+                    dT[i, j], stop = _kink_stop(en[i, j], en[i, j] + rhs[i, j], es, es_l, rho_L)
+                    if stop:
+                        exact[j] = False
+        for j in range(nc):
+            if not live[j] or exact[j]:
                 continue
-            # T(e) is monotone and piecewise linear: a node stops at the first breakpoint on its way and takes the
-            # next branch's slope at the next iteration; the step is halved while it does not reduce the residual
-            # (Newton across the melt kinks can otherwise cycle)
             lam = 1.0
             for _ in range(8):
-                same = True  # no node changed branch of T(e): the linearised step was exact
+                same = True
                 for i in range(nn):
-                    a = en[i, j]
-                    b = a + lam * rhs[i, j]
-                    if a <= es < b:
-                        b = es + KINK * rho_L
+                    trial[i], stop = _kink_stop(en[i, j], en[i, j] + lam * rhs[i, j], es, es_l, rho_L)
+                    if stop:  # a node changed branch of T(e): the linearised step is not exact
                         same = False
-                    elif a <= es_l < b:
-                        b = es_l + KINK * rho_L
-                        same = False
-                    elif b <= es_l < a:
-                        b = es_l
-                        same = False
-                    elif b <= es < a:
-                        b = es
-                        same = False
-                    trial[i] = b
                 if same or _heat_residual2(trial, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, j) < r0[j]:
                     break
                 lam *= 0.5
-            dmax = 0.0
+            exact[j] = same and lam == 1.0
             for i in range(nn):
-                dmax = max(dmax, abs(trial[i] - en[i, j]))
-                en[i, j] = trial[i]
-            if (same and lam == 1.0) or dmax <= tol * rho_c:  # a full step on one branch is the exact solution
-                live[j] = False
-            else:
-                any_live = True
+                dT[i, j] = trial[i]
+        for i in range(nn):
+            for j in range(nc):
+                if live[j]:
+                    dmx[j] = max(dmx[j], abs(dT[i, j] - en[i, j]))
+                    en[i, j] = dT[i, j]
+        any_live = False
+        for j in range(nc):
+            if live[j]:
+                if exact[j] or dmx[j] <= tol * rho_c:  # a full step on one branch is the exact solution
+                    live[j] = False
+                else:
+                    any_live = True
         if not any_live:
             break
     for j in range(nc):
@@ -655,14 +676,16 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
             if act[j]:
                 Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
     for i in range(nn):
+        al = dt * kap / dz[i - 1] if i > 0 else 0.0
+        au = dt * kap / dz[i] if i < M else 0.0
         for j in range(nc):
             if not act[j]:
                 continue
             flux = src[i, j]
             if i > 0:
-                flux -= dt * kap / dz[i - 1] * (Tk[i, j] - Tk[i - 1, j])
+                flux -= al * (Tk[i, j] - Tk[i - 1, j])
             if i < M:
-                flux -= dt * kap / dz[i] * (Tk[i, j] - Tk[i + 1, j])
+                flux -= au * (Tk[i, j] - Tk[i + 1, j])
             if i == M and fixed_far:
                 hout[j] = flux  # what node M would gain: it leaves through z = h
                 en[i, j] = e[i, j]
