@@ -224,7 +224,8 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             Emat[i, j] = e[i, j] + b1[j] * de[i, j] + b2[j] * de2[i, j]
             en[i, j] = e[i, j]
             vn[i, j] = v[i, j]
-    hout = np.zeros(nc)
+    hfin = np.zeros(nc)  # heat out of each column's last heat solve
+    fin = np.zeros(nc, np.bool_)  # Picard converged
     for c in range(M):
         for j in range(nc):
             sold[c, j] = Gs[c, j] * ge[c, j]
@@ -254,12 +255,18 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 and math.isfinite(k[j]) and tau_cap[j] >= 0.0):
             status[j] = BAD_INPUT
     for pic in range(max_iter):
-        # ---- material state at the trial enthalpies
+        # ---- material state at the trial enthalpies (columns still iterating: a converged column keeps its
+        # last sweep, so that its answer does not depend on the other columns)
+        for j in range(nc):
+            act[j] = status[j] == OK and not fin[j]
         for i in range(nn):
             for j in range(nc):
-                Tmat[i, j], _, phm[i, j] = temperature_of(Emat[i, j], rho_c, rho_L, T0, T_F)
+                if act[j]:
+                    Tmat[i, j], _, phm[i, j] = temperature_of(Emat[i, j], rho_c, rho_L, T0, T_F)
         for c in range(M):
             for j in range(nc):
+                if not act[j]:
+                    continue
                 Tc = 0.5 * (Tmat[c, j] + Tmat[c + 1, j])
                 ph = 0.5 * (phm[c, j] + phm[c + 1, j])
                 phc[c, j] = ph
@@ -269,13 +276,14 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 # a cell with melt carries it as a liquid layer ph dz in series with rigid solid (sub-cell film)
                 eta[c, j] = liquid_viscosity(Tc, eta_F, E_R, T_F) / max(ph, PHI_MIN) if r <= 0.0 else 0.0
         for j in range(nc):
+            if not act[j]:
+                continue
             Zc[j] = math.sqrt(rho * G[M - 1, j])  # far-end impedance rho c_s with c_s^2 = G(p, T(h))/rho
             cp = tau_cap[j]
             if f >= 0.0:
                 t = tresca * scg_shear_ratio(F_N[j], Tmat[0, j], g_p, h_p, xi, T_F)
                 cp = min(cp, t)
             cap[j] = cp
-            act[j] = status[j] == OK
         # ---- mechanics: Newton on the node velocities, slip/stick switch at z = 0
         for j in range(nc):
             nsw[j] = 0
@@ -371,7 +379,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 status[j] = NO_CONVERGENCE
         # ---- final cell states, heat sources
         for j in range(nc):
-            act[j] = status[j] == OK
+            act[j] = status[j] == OK and not fin[j]
         for i in range(nn):
             for j in range(nc):
                 src[i, j] = 0.0
@@ -415,9 +423,11 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, htol, 100,
                            Tk, dT, lo, di, up, rhs)
         for j in range(nc):
-            if act[j] and not math.isfinite(hout[j]):
-                status[j] = NO_CONVERGENCE
-                act[j] = False
+            if act[j]:
+                hfin[j] = hout[j]
+                if not math.isfinite(hout[j]):
+                    status[j] = NO_CONVERGENCE
+                    act[j] = False
         # ---- Picard convergence on the temperatures that set G, Y and eta
         for j in range(nc):
             dmx[j] = 0.0
@@ -431,6 +441,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 iters[j] = pic + 1
                 if dmx[j] > ptol * rho_c:  # ptol in kelvin of sensible heat
                     done = False
+                else:
+                    fin[j] = True
+                    act[j] = False
         if done:
             break
         # next material enthalpies: plain Picard in the column; at z = 0 (where the Tresca branch and the
@@ -501,7 +514,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         if inertia and not held:
             vmm = (1.0 - th) * v[M, j] + th * vn[M, j]
             energy[E_RADIATED, j] += Zc[j] * vmm * vmm * dt
-        energy[E_HEAT_OUT, j] += hout[j]
+        energy[E_HEAT_OUT, j] += hfin[j]
         thick = 0.0
         for i in range(nn):
             dv = vn[i, j] - v[i, j]
