@@ -823,7 +823,7 @@ class ViscoplasticColumns:
         self.status = np.zeros(nc, dtype=np.int64)
         self._de = np.zeros((nn, nc))  # enthalpy changes of the last two steps (the Picard predictor)
         self._de2 = np.zeros((nn, nc))
-        self._dt_prev = (0.0, 0.0)  # their time steps (0: none)
+        self._dt_prev = np.zeros(2)  # their time steps (0: none); the three are checkpointed with the state
         self._work = np.empty((N_WORK, nn + 1, nc))  # the kernel's scratch, allocated once
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
@@ -837,14 +837,14 @@ class ViscoplasticColumns:
         liquid = T >= self.T_F
         self.e[...] = self.rho_c * (T - self.T0) + np.where(liquid, self.rho_L, 0.0)
         self.T[...] = T
-        self._dt_prev = (0.0, 0.0)  # no prediction across an imposed state
+        self._dt_prev[:] = 0.0  # no prediction across an imposed state
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
     def step(self, sigma_n, v_free, slip_prev, k, tau_cap, dt: float):
         """Advance all columns by dt; return (tau, v_half) (see the class docstring)."""
         nc = self.n_columns
-        pw = predictor_weights(float(dt), *self._dt_prev)
-        self._dt_prev = (float(dt), self._dt_prev[0])
+        pw = predictor_weights(float(dt), self._dt_prev[0], self._dt_prev[1])
+        self._dt_prev[:] = float(dt), self._dt_prev[0]
         arr = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float), (nc,)))
                for a in (sigma_n, v_free, slip_prev, k, tau_cap)]
         viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
