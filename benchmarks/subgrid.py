@@ -11,7 +11,8 @@ one fused factored Thomas sweep per step vectorised across the columns, Brent in
   on the same residual in Python (numpy for the plastic layer).
 
 The viscoplastic model (inertia on, eta_vp from the material or 50 Pa s) has neither; it is timed
-over ``--vp-steps`` steps after 5 warm-up steps (it is about 1000 times slower).
+over ``--vp-steps`` steps after 5 warm-up steps (it is about 50 times slower than the thermoelastoplastic
+model; docs/theory/viscoplastic.md, "Speed").
 Loading: the thesis's Ball case (Al 5083-H111, 10 GPa, 150-250 m/s spread over the columns,
 f = 0.3, dt = 1 ns), after 20 warm-up steps.  Each repeat times the model and then the bare
 Thomas solve (interleaved, so that both see the same load); prints the medians.  Times are the

@@ -12,7 +12,8 @@ walking the run's objects:
   and records; its sub-grid friction (window sums, energy totals, records, profiles) and
   columns (temperature and plastic-strain fields, the lagged plastic heat, the plastic-front
   bounds, the cumulative per-node energies, the last friction and slip, and the step the
-  implicit-heat factors were made for);
+  implicit-heat factors were made for; a viscoplastic column's last two enthalpy increments and
+  steps, its Picard predictor);
 * the output writers' positions (bytes of each CSV file, field outputs written, the next
   field time) and the next checkpoint time, and the deck (JSON) it was taken with.
 
@@ -47,7 +48,8 @@ CHILDREN = {
     "SubgridInterface": ("columns",),
 }
 # set-up values that a restart takes from the deck and the command line, not from the checkpoint
-SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner"}}
+SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner"},
+        "ViscoplasticColumns": {"_work"}}  # scratch of the kernel
 # deck fields a restart may change: the end time, the cycle limit and the checkpoint interval
 MAY_CHANGE = {("time", "end"), ("time", "max_cycles"), ("output", "checkpoint_interval")}
 

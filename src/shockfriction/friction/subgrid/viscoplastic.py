@@ -52,6 +52,9 @@ SQRT3 = math.sqrt(3.0)
 PHI_MIN = 1e-3
 #: a node of the enthalpy Newton that crosses the solidus or liquidus stops this fraction of the latent heat past it
 KINK = 1e-15
+#: the first Picard iterate extrapolates the last two enthalpy increments (quadratic) where the history is smooth,
+#: max|de1 - de2| <= SMOOTH max|de1|, else the last one (linear): a period-2 melt-front history extrapolates badly
+SMOOTH = 0.2
 OK, NO_CONVERGENCE, BAD_INPUT = 0, 2, 3
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
@@ -61,6 +64,10 @@ N_PAR = 17
 (E_FRICTION, E_INTERFACE, E_COLUMN_WORK, E_PLASTIC, E_VISCOUS, E_SOFTENING, E_RADIATED, E_HEAT_OUT,
  E_NUMERICAL) = range(9)
 N_ENERGY = 9
+# planes of the kernel's scratch block (N_WORK, n_nodes + 1, n_columns)
+(W_TIT, W_EMAT, W_TMAT, W_PHM, W_VN, W_LO, W_DI, W_UP, W_RHS, W_S, W_SRC, W_EN, W_RBULK, W_TK, W_DT, W_PHC, W_G,
+ W_KF, W_ETA, W_SOLD, W_YH, W_KC, W_DGP, W_SNEW, W_GDM) = range(25)
+N_WORK = 25
 
 
 @njit(cache=True)
@@ -82,12 +89,12 @@ def temperature_of(e, rho_c, rho_L, T0, T_F):
 
 
 @njit(cache=True)
-def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, p):
+def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax):
     """Plastic increment x = d gamma_p >= 0 of |s_tr| - (G + eta_vp/dt) x - Y(eps + x/sqrt3) k_fac = 0,
     k_fac = (G/G0)/sqrt(3); returns (x, d|s'|/d|s_tr|).  The left side is convex and decreasing in x,
     so Newton from x = 0 climbs monotonically to the root (no overshoot).  ``y_start`` = min(Ymax, Y0 (1 + beta
-    eps)^n), the hardening at the start of the step (computed once per step)."""
-    Y0, beta, n, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
+    eps)^n), the hardening at the start of the step (computed once per step).  Scalars only (no arrays: an
+    array argument of a per-cell call costs an atomic reference-count pair)."""
     if G <= 0.0:
         return 0.0, 0.0
     if s_abs <= y_start * k_fac:
@@ -132,28 +139,28 @@ def _thomas_masked(lo, di, up, rhs, act, nn, nc):
 
 
 @njit(cache=True)
-def _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th):
-    """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of cell c.
+def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta, n, Ymax, eta_vp, th):
+    """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of one cell
+    (dv, dvn = v_c - v_{c+1} at the old and new velocities; the other arguments the cell's values).
 
     th = 1/2 (inertia: implicit midpoint) or 1 (quasi-static: backward Euler); gd and S are the
     th-weighted strain rate and stress that enter the momentum balance."""
-    gd = ((1.0 - th) * (v[c, j] - v[c + 1, j]) + th * (vn[c, j] - vn[c + 1, j])) / dz[c]
-    g = G[c, j]
+    gd = ((1.0 - th) * dv + th * dvn) / dzc
     if g <= 0.0:  # molten cell: no solid stress; its stored elastic strain is released as plastic strain
-        S = (1.0 - th) * sold[c, j] + eta[c, j] * gd
-        return gd, 0.0, ge[c, j] + dt * gd, S, eta[c, j] * th / dz[c]
-    s_tr = g * (ge[c, j] + dt * gd)
-    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, eps[c, j], yh[c, j], kf[c, j], p)
+        S = (1.0 - th) * soldc + etac * gd
+        return gd, 0.0, gec + dt * gd, S, etac * th / dzc
+    s_tr = g * (gec + dt * gd)
+    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, epsc, yhc, kfc, Y0, beta, n, Ymax)
     sg = 1.0 if s_tr >= 0.0 else -1.0
     snew = s_tr - sg * g * x
-    S = (1.0 - th) * sold[c, j] + th * snew + eta[c, j] * gd
-    K = (th * dsds * g * dt + eta[c, j]) * th / dz[c]
+    S = (1.0 - th) * soldc + th * snew + etac * gd
+    K = (th * dsds * g * dt + etac) * th / dzc
     return gd, snew, sg * x, S, K
 
 
 @njit(cache=True)
 def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                      tau, v_half, v_local, q_in, film, iters, status, energy):
+                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work):
     """Advance every column by dt (state arrays updated in place; see the module docstring).
 
     State: v (nn, nc) velocity, ge (M, nc) elastic shear strain, Gs (M, nc) modulus of the stored stress
@@ -161,7 +168,10 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     Per column inputs: F_N normal stress, v_free = [V*], v_prev = [V]^{n-1/2}, k = S dt (1/m_s + 1/m_g),
     tau_cap = min(mu0 F_N, tau_stick).  Outputs: tau = |s(0)|, v_half = [V]^{n+1/2}, v_local = slip at the
     surface (V - v(0), midpoint), q_in = beta_T tau v_local, film = molten thickness (m), iters (Picard),
-    status, energy (N_ENERGY, nc) accumulated.
+    status, energy (N_ENERGY, nc) accumulated.  de, de2 (nn, nc): the enthalpy changes of the last two steps
+    (updated); the first Picard iterate is the extrapolation E = e + a1 de + a2 de2, pw = (a1, a2, a1 of the linear
+    one) from predictor_weights (zeros: none), linear where the history is not smooth (see SMOOTH); it moves the
+    answer within the Picard tolerance only.  work: scratch (N_WORK, nn + 1, nc), contents irrelevant.
     """
     nn, nc = v.shape
     M = nn - 1
@@ -176,40 +186,51 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     fixed_far = math.isfinite(T_far)
     mtol, htol, ptol = par[P_MECH_TOL], par[P_HEAT_TOL], par[P_PICARD_TOL]
     G0, T_F = p[I_G0], p[I_TF]
+    Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
     tresca = f * p[I_YMAX] / SQRT3
     mass = np.empty(nn)
     for i in range(nn):
         mass[i] = rho * w[i] if inertia else 0.0
-    # work arrays
-    Tit = T.copy()   # temperatures of the last heat solve
-    Emat = e.copy()  # enthalpies that set G, Y, eta_L, the melt fractions and the Tresca branch (Picard iterate)
-    Tmat = T.copy()
-    phm = np.zeros((nn, nc))
-    phc = np.zeros((M, nc))  # melt fraction of each cell (the sub-cell film), as used by the mechanics
-    hout = np.zeros(nc)
-    vn = v.copy()
-    G = np.empty((M, nc))
-    kf = np.empty((M, nc))
-    eta = np.empty((M, nc))
-    sold = np.empty((M, nc))
-    yh = np.empty((M, nc))  # hardening at the start of the step
+    # work arrays: planes of the scratch block (no allocation per step: fresh pages cost a fault each)
+    Tit, Emat, Tmat, phm, vn, lo, di, up, rhs, S, src, en, rbulk, Tk, dT = (
+        work[W_TIT, :nn], work[W_EMAT, :nn], work[W_TMAT, :nn], work[W_PHM, :nn], work[W_VN, :nn], work[W_LO, :nn],
+        work[W_DI, :nn], work[W_UP, :nn], work[W_RHS, :nn], work[W_S], work[W_SRC, :nn], work[W_EN, :nn],
+        work[W_RBULK, :nn], work[W_TK, :nn], work[W_DT, :nn])
+    phc, G, kf, eta, sold, yh, Kc, dgp, snew, gdm = (
+        work[W_PHC, :M], work[W_G, :M], work[W_KF, :M], work[W_ETA, :M], work[W_SOLD, :M], work[W_YH, :M],
+        work[W_KC, :M], work[W_DGP, :M], work[W_SNEW, :M], work[W_GDM, :M])
+    # Tit: temperatures of the last heat solve; Emat: enthalpies that set G, Y, eta_L, the melt fractions and the
+    # Tresca branch (Picard iterate); phc: melt fraction of each cell (the sub-cell film) as used by the mechanics;
+    # yh: hardening at the start of the step; S[0] surface traction, S[c+1] cell c midpoint stress, S[nn] far end;
+    # rbulk: last bulk Picard residual e_heat - E.  phc, dgp, snew, gdm, rbulk are written before they are read.
+    b1 = np.empty(nc)
+    b2 = np.empty(nc)
+    for j in range(nc):
+        b1[j] = 0.0
+        b2[j] = 0.0
+    for i in range(nn):
+        for j in range(nc):
+            b1[j] = max(b1[j], abs(de[i, j]))
+            b2[j] = max(b2[j], abs(de[i, j] - de2[i, j]))
+    for j in range(nc):  # quadratic predictor on a smooth history, else linear
+        quad = b2[j] <= SMOOTH * b1[j]
+        b1[j] = pw[0] if quad else pw[2]
+        b2[j] = pw[1] if quad else 0.0
+    for i in range(nn):
+        for j in range(nc):
+            Tit[i, j] = T[i, j]
+            Tmat[i, j] = T[i, j]
+            Emat[i, j] = e[i, j] + b1[j] * de[i, j] + b2[j] * de2[i, j]
+            en[i, j] = e[i, j]
+            vn[i, j] = v[i, j]
+    hfin = np.zeros(nc)  # heat out of each column's last heat solve
+    fin = np.zeros(nc, np.bool_)  # Picard converged
     for c in range(M):
         for j in range(nc):
             sold[c, j] = Gs[c, j] * ge[c, j]
             y = p[I_Y0] * (1.0 + p[I_BETA] * eps[c, j]) ** p[I_N]
             yh[c, j] = min(p[I_YMAX], y)
-    lo = np.empty((nn, nc))
-    di = np.empty((nn, nc))
-    up = np.empty((nn, nc))
-    rhs = np.empty((nn, nc))
-    S = np.empty((nn + 1, nc))  # S[0] surface traction, S[c+1] cell c midpoint stress, S[nn] far end
-    Kc = np.empty((M, nc))
-    src = np.zeros((nn, nc))
-    dgp = np.zeros((M, nc))
-    snew = np.zeros((M, nc))
-    gdm = np.zeros((M, nc))
-    en = e.copy()
     act = np.ones(nc, np.bool_)
     stick = np.zeros(nc, np.bool_)
     sgn = np.empty(nc)
@@ -223,7 +244,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     xprev = np.zeros(nc)
     rprev = np.zeros(nc)
     omega = np.ones(nc)  # Aitken relaxation factor of the bulk Picard update
-    rbulk = np.zeros((nn, nc))  # last bulk Picard residual e_heat - E
+    dmx = np.empty(nc)  # per-column maxima and sums (the loops run over the nodes, columns innermost)
+    anum = np.empty(nc)
+    aden = np.empty(nc)
     for j in range(nc):
         status[j] = OK
         iters[j] = 0
@@ -232,12 +255,18 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 and math.isfinite(k[j]) and tau_cap[j] >= 0.0):
             status[j] = BAD_INPUT
     for pic in range(max_iter):
-        # ---- material state at the trial enthalpies
+        # ---- material state at the trial enthalpies (columns still iterating: a converged column keeps its
+        # last sweep, so that its answer does not depend on the other columns)
+        for j in range(nc):
+            act[j] = status[j] == OK and not fin[j]
         for i in range(nn):
             for j in range(nc):
-                Tmat[i, j], _, phm[i, j] = temperature_of(Emat[i, j], rho_c, rho_L, T0, T_F)
+                if act[j]:
+                    Tmat[i, j], _, phm[i, j] = temperature_of(Emat[i, j], rho_c, rho_L, T0, T_F)
         for c in range(M):
             for j in range(nc):
+                if not act[j]:
+                    continue
                 Tc = 0.5 * (Tmat[c, j] + Tmat[c + 1, j])
                 ph = 0.5 * (phm[c, j] + phm[c + 1, j])
                 phc[c, j] = ph
@@ -247,13 +276,14 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 # a cell with melt carries it as a liquid layer ph dz in series with rigid solid (sub-cell film)
                 eta[c, j] = liquid_viscosity(Tc, eta_F, E_R, T_F) / max(ph, PHI_MIN) if r <= 0.0 else 0.0
         for j in range(nc):
+            if not act[j]:
+                continue
             Zc[j] = math.sqrt(rho * G[M - 1, j])  # far-end impedance rho c_s with c_s^2 = G(p, T(h))/rho
             cp = tau_cap[j]
             if f >= 0.0:
                 t = tresca * scg_shear_ratio(F_N[j], Tmat[0, j], g_p, h_p, xi, T_F)
                 cp = min(cp, t)
             cap[j] = cp
-            act[j] = status[j] == OK
         # ---- mechanics: Newton on the node velocities, slip/stick switch at z = 0
         for j in range(nc):
             nsw[j] = 0
@@ -261,8 +291,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             for c in range(M):
                 for j in range(nc):
                     if act[j]:
-                        gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p,
-                                                        eta_vp, th)
+                        gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vn[c, j] - vn[c + 1, j], dz[c], dt,
+                                                        G[c, j], ge[c, j], eps[c, j], yh[c, j], eta[c, j], kf[c, j],
+                                                        sold[c, j], Y0, beta_h, n_h, Ymax, eta_vp, th)
                         S[c + 1, j] = Sm
                         Kc[c, j] = K
             for j in range(nc):
@@ -306,17 +337,20 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                         di[M, j] = 1.0
                         rhs[M, j] = -vn[M, j]
             _thomas_masked(lo, di, up, rhs, act, nn, nc)
+            # plain Newton; damped when it cycles between plastic and elastic cells (piecewise-smooth return)
+            damp = 1.0 if it < 25 else (0.5 if it < 100 else 0.25)
+            for j in range(nc):
+                dmx[j] = 0.0
+            for i in range(nn):
+                for j in range(nc):
+                    if act[j]:
+                        vn[i, j] += damp * rhs[i, j]
+                        dmx[j] = max(dmx[j], abs(rhs[i, j]))
             any_act = False
             for j in range(nc):
                 if not act[j]:
                     continue
-                dmax = 0.0
-                # plain Newton; damped when it cycles between plastic and elastic cells (piecewise-smooth return)
-                damp = 1.0 if it < 25 else (0.5 if it < 100 else 0.25)
-                for i in range(nn):
-                    vn[i, j] += damp * rhs[i, j]
-                    dmax = max(dmax, abs(rhs[i, j]))
-                if dmax <= mtol * (abs(v_free[j]) + abs(vn[0, j]) + 1e-3):
+                if dmx[j] <= mtol * (abs(v_free[j]) + abs(vn[0, j]) + 1e-3):
                     # converged on this branch: is the branch right?  (friction opposes the local slip)
                     vh = v_free[j] - ts[j] * k[j]
                     if stick[j]:
@@ -345,13 +379,16 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 status[j] = NO_CONVERGENCE
         # ---- final cell states, heat sources
         for j in range(nc):
-            act[j] = status[j] == OK
-            for i in range(nn):
+            act[j] = status[j] == OK and not fin[j]
+        for i in range(nn):
+            for j in range(nc):
                 src[i, j] = 0.0
         for c in range(M):
             for j in range(nc):
                 if act[j]:
-                    gd, sn, dg, Sm, K = _cell_state(v, vn, dz, dt, G, ge, eps, yh, eta, kf, sold, c, j, p, eta_vp, th)
+                    gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vn[c, j] - vn[c + 1, j], dz[c], dt, G[c, j],
+                                                    ge[c, j], eps[c, j], yh[c, j], eta[c, j], kf[c, j],
+                                                    sold[c, j], Y0, beta_h, n_h, Ymax, eta_vp, th)
                     gdm[c, j] = gd
                     S[c + 1, j] = Sm
                     snew[c, j] = sn
@@ -383,23 +420,30 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 q_in[j] = beta_T * ts[j] * (vm - v0m)  # >= 0: the traction opposes the local slip
                 src[0, j] += q_in[j] * dt
         # ---- heat: backward Euler on the enthalpy
-        hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, htol, 100)
+        hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, htol, 100,
+                           Tk, dT, lo, di, up, rhs)
         for j in range(nc):
-            if act[j] and not math.isfinite(hout[j]):
-                status[j] = NO_CONVERGENCE
-                act[j] = False
+            if act[j]:
+                hfin[j] = hout[j]
+                if not math.isfinite(hout[j]):
+                    status[j] = NO_CONVERGENCE
+                    act[j] = False
         # ---- Picard convergence on the temperatures that set G, Y and eta
+        for j in range(nc):
+            dmx[j] = 0.0
+        for i in range(nn):
+            for j in range(nc):
+                if act[j]:
+                    dmx[j] = max(dmx[j], abs(en[i, j] - Emat[i, j]))
         done = True
         for j in range(nc):
-            if not act[j]:
-                continue
-            iters[j] = pic + 1
-            dmax = 0.0
-            for i in range(nn):
-                d = abs(en[i, j] - Emat[i, j])
-                dmax = max(dmax, d)
-            if dmax > ptol * rho_c:  # ptol in kelvin of sensible heat
-                done = False
+            if act[j]:
+                iters[j] = pic + 1
+                if dmx[j] > ptol * rho_c:  # ptol in kelvin of sensible heat
+                    done = False
+                else:
+                    fin[j] = True
+                    act[j] = False
         if done:
             break
         # next material enthalpies: plain Picard in the column; at z = 0 (where the Tresca branch and the
@@ -432,24 +476,33 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             xprev[j] = x
             rprev[j] = r
             Emat[0, j] = xn
-            # bulk: Picard with Aitken (Irons-Tuck) relaxation, which damps the period-2 cycle of a melt front
-            # (a node that melts makes the film above it softer, which cools it below the melt, and back)
-            if pic > 0:
-                num = 0.0
-                den = 0.0
-                for i in range(1, nn):
-                    dr = (en[i, j] - Emat[i, j]) - rbulk[i, j]
-                    num += rbulk[i, j] * dr
-                    den += dr * dr
-                if den > 0.0:
-                    omega[j] = min(max(-omega[j] * num / den, 0.05), 1.0)
+        # bulk: Picard with Aitken (Irons-Tuck) relaxation, which damps the period-2 cycle of a melt front
+        # (a node that melts makes the film above it softer, which cools it below the melt, and back)
+        if pic > 0:
+            for j in range(nc):
+                anum[j] = 0.0
+                aden[j] = 0.0
             for i in range(1, nn):
-                rr = en[i, j] - Emat[i, j]
-                rbulk[i, j] = rr
-                Emat[i, j] += omega[j] * rr
+                for j in range(nc):
+                    if act[j]:
+                        dr = (en[i, j] - Emat[i, j]) - rbulk[i, j]
+                        anum[j] += rbulk[i, j] * dr
+                        aden[j] += dr * dr
+            for j in range(nc):
+                if act[j] and aden[j] > 0.0:
+                    omega[j] = min(max(-omega[j] * anum[j] / aden[j], 0.05), 1.0)
+        for i in range(1, nn):
+            for j in range(nc):
+                if act[j]:
+                    rr = en[i, j] - Emat[i, j]
+                    rbulk[i, j] = rr
+                    Emat[i, j] += omega[j] * rr
     # ---- commit
     for j in range(nc):
         if status[j] != OK:
+            for i in range(nn):
+                de[i, j] = 0.0
+                de2[i, j] = 0.0
             continue
         if iters[j] >= max_iter:
             iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is still exact)
@@ -461,7 +514,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         if inertia and not held:
             vmm = (1.0 - th) * v[M, j] + th * vn[M, j]
             energy[E_RADIATED, j] += Zc[j] * vmm * vmm * dt
-        energy[E_HEAT_OUT, j] += hout[j]
+        energy[E_HEAT_OUT, j] += hfin[j]
         thick = 0.0
         for i in range(nn):
             dv = vn[i, j] - v[i, j]
@@ -487,6 +540,8 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         film[j] = thick
         for i in range(nn):
             v[i, j] = vn[i, j]
+            de2[i, j] = de[i, j]
+            de[i, j] = en[i, j] - e[i, j]
             e[i, j] = en[i, j]
             T[i, j] = Tit[i, j]
     return 0
@@ -514,28 +569,41 @@ def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far,
 
 
 @njit(cache=True)
-def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, tol, max_iter):
+def _kink_stop(a, b, es, es_l, rho_L):
+    """Newton target b of a node at enthalpy a, stopped at the first breakpoint of T(e) (solidus es, liquidus es_l)
+    on its way: KINK rho_L past it going up, at it going down; returns (target, stopped)."""
+    if a <= es < b:
+        return es + KINK * rho_L, True
+    if a <= es_l < b:
+        return es_l + KINK * rho_L, True
+    if b <= es_l < a:
+        return es_l, True
+    if b <= es < a:
+        return es, True
+    return b, False
+
+
+@njit(cache=True)
+def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, tol, max_iter,
+                Tk, dT, lo, di, up, rhs):
     """Backward Euler on the enthalpy, w_i (e'_i - e_i) = dt [kappa dT'/dz]_{i-1/2}^{i+1/2} + src_i (J/m^2), by
     Newton in e' (dT/de = 0 in the mushy zone); then the conservative update e' = e + (src + dt flux(T'))/w from the
     last iterate's temperatures, so that the discrete energy balance is exact.  Far end insulated, or held at T_far
-    (the heat leaving there is returned per column, J/m^2).  Fills en (new enthalpy) and Tout (T(en))."""
+    (the heat leaving there is returned per column, J/m^2).  Fills en (new enthalpy) and Tout (T(en)); Tk, dT, lo,
+    di, up, rhs (n_nodes, nc) are scratch."""
     nn, nc = e.shape
     M = nn - 1
-    Tk = np.empty((nn, nc))
-    dT = np.empty((nn, nc))
-    lo = np.empty((nn, nc))
-    di = np.empty((nn, nc))
-    up = np.empty((nn, nc))
-    rhs = np.empty((nn, nc))
     trial = np.empty(nn)
     r0 = np.zeros(nc)
     live = act.copy()
+    exact = np.zeros(nc, np.bool_)
+    dmx = np.zeros(nc)
     hout = np.zeros(nc)
     es = rho_c * (T_F - T0)  # solidus and liquidus enthalpies
     es_l = es + rho_L
-    for j in range(nc):
-        if act[j]:
-            for i in range(nn):
+    for i in range(nn):
+        for j in range(nc):
+            if act[j]:
                 en[i, j] = e[i, j]
     for it in range(max_iter):
         for i in range(nn):
@@ -545,6 +613,8 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
         for j in range(nc):
             r0[j] = 0.0
         for i in range(nn):
+            al = dt * kap / dz[i - 1] if i > 0 else 0.0
+            au = dt * kap / dz[i] if i < M else 0.0
             for j in range(nc):
                 if not live[j]:
                     continue
@@ -553,15 +623,13 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 lo[i, j] = 0.0
                 up[i, j] = 0.0
                 if i > 0:
-                    a = dt * kap / dz[i - 1]
-                    res += a * (Tk[i, j] - Tk[i - 1, j])
-                    d += a * dT[i, j]
-                    lo[i, j] = -a * dT[i - 1, j]
+                    res += al * (Tk[i, j] - Tk[i - 1, j])
+                    d += al * dT[i, j]
+                    lo[i, j] = -al * dT[i - 1, j]
                 if i < M:
-                    a = dt * kap / dz[i]
-                    res += a * (Tk[i, j] - Tk[i + 1, j])
-                    d += a * dT[i, j]
-                    up[i, j] = -a * dT[i + 1, j]
+                    res += au * (Tk[i, j] - Tk[i + 1, j])
+                    d += au * dT[i, j]
+                    up[i, j] = -au * dT[i + 1, j]
                 if i == M and fixed_far:
                     res = 0.0
                     d = 1.0
@@ -570,43 +638,47 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 rhs[i, j] = -res
                 r0[j] += res * res
         _thomas_masked(lo, di, up, rhs, live, nn, nc)
-        any_live = False
+        # T(e) is monotone and piecewise linear: a node stops at the first breakpoint on its way and takes the
+        # next branch's slope at the next iteration; the step is halved while it does not reduce the residual
+        # (Newton across the melt kinks can otherwise cycle).  The full step first, for all columns (dT holds the
+        # trial enthalpies): where no node changes branch of T(e) the linearised step is exact
         for j in range(nc):
-            if not live[j]:
+            exact[j] = True
+            dmx[j] = 0.0
+        for i in range(nn):
+            for j in range(nc):
+                if live[j]:
+                    dT[i, j], stop = _kink_stop(en[i, j], en[i, j] + rhs[i, j], es, es_l, rho_L)
+                    if stop:
+                        exact[j] = False
+        for j in range(nc):
+            if not live[j] or exact[j]:
                 continue
-            # T(e) is monotone and piecewise linear: a node stops at the first breakpoint on its way and takes the
-            # next branch's slope at the next iteration; the step is halved while it does not reduce the residual
-            # (Newton across the melt kinks can otherwise cycle)
             lam = 1.0
             for _ in range(8):
-                same = True  # no node changed branch of T(e): the linearised step was exact
+                same = True
                 for i in range(nn):
-                    a = en[i, j]
-                    b = a + lam * rhs[i, j]
-                    if a <= es < b:
-                        b = es + KINK * rho_L
+                    trial[i], stop = _kink_stop(en[i, j], en[i, j] + lam * rhs[i, j], es, es_l, rho_L)
+                    if stop:  # a node changed branch of T(e): the linearised step is not exact
                         same = False
-                    elif a <= es_l < b:
-                        b = es_l + KINK * rho_L
-                        same = False
-                    elif b <= es_l < a:
-                        b = es_l
-                        same = False
-                    elif b <= es < a:
-                        b = es
-                        same = False
-                    trial[i] = b
                 if same or _heat_residual2(trial, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, j) < r0[j]:
                     break
                 lam *= 0.5
-            dmax = 0.0
+            exact[j] = same and lam == 1.0
             for i in range(nn):
-                dmax = max(dmax, abs(trial[i] - en[i, j]))
-                en[i, j] = trial[i]
-            if (same and lam == 1.0) or dmax <= tol * rho_c:  # a full step on one branch is the exact solution
-                live[j] = False
-            else:
-                any_live = True
+                dT[i, j] = trial[i]
+        for i in range(nn):
+            for j in range(nc):
+                if live[j]:
+                    dmx[j] = max(dmx[j], abs(dT[i, j] - en[i, j]))
+                    en[i, j] = dT[i, j]
+        any_live = False
+        for j in range(nc):
+            if live[j]:
+                if exact[j] or dmx[j] <= tol * rho_c:  # a full step on one branch is the exact solution
+                    live[j] = False
+                else:
+                    any_live = True
         if not any_live:
             break
     for j in range(nc):
@@ -617,14 +689,16 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
             if act[j]:
                 Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
     for i in range(nn):
+        al = dt * kap / dz[i - 1] if i > 0 else 0.0
+        au = dt * kap / dz[i] if i < M else 0.0
         for j in range(nc):
             if not act[j]:
                 continue
             flux = src[i, j]
             if i > 0:
-                flux -= dt * kap / dz[i - 1] * (Tk[i, j] - Tk[i - 1, j])
+                flux -= al * (Tk[i, j] - Tk[i - 1, j])
             if i < M:
-                flux -= dt * kap / dz[i] * (Tk[i, j] - Tk[i + 1, j])
+                flux -= au * (Tk[i, j] - Tk[i + 1, j])
             if i == M and fixed_far:
                 hout[j] = flux  # what node M would gain: it leaves through z = h
                 en[i, j] = e[i, j]
@@ -632,6 +706,20 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 en[i, j] = e[i, j] + flux / w[i]
             Tout[i, j], _, _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
     return hout
+
+
+def predictor_weights(h, h1, h2):
+    """Weights (a1, a2, a1_lin) of the first Picard iterate E = e + a1 de1 + a2 de2: the quadratic through the
+    enthalpies of the last three steps (increments de1 over h1, de2 over h2) at the step h (capped at h1),
+    e + d1 h + D2 h (h + h1) with d1 = de1/h1, D2 = (de1/h1 - de2/h2)/(h1 + h2); a1_lin = h/h1 the linear one
+    (also used with one step of history); zeros without."""
+    if h1 <= 0.0:
+        return np.zeros(3)
+    h = min(h, h1)
+    if h2 <= 0.0:
+        return np.array([h / h1, 0.0, h / h1])
+    q = h * (h + h1) / (h1 + h2)
+    return np.array([h / h1 + q / h1, -q / h2, h / h1])
 
 
 # --------------------------------------------------------------------------- the columns
@@ -733,6 +821,10 @@ class ViscoplasticColumns:
             setattr(self, name, np.zeros(nc))
         self.iterations = np.zeros(nc, dtype=np.int64)
         self.status = np.zeros(nc, dtype=np.int64)
+        self._de = np.zeros((nn, nc))  # enthalpy changes of the last two steps (the Picard predictor)
+        self._de2 = np.zeros((nn, nc))
+        self._dt_prev = np.zeros(2)  # their time steps (0: none); the three are checkpointed with the state
+        self._work = np.empty((N_WORK, nn + 1, nc))  # the kernel's scratch, allocated once
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
     @property
@@ -745,17 +837,20 @@ class ViscoplasticColumns:
         liquid = T >= self.T_F
         self.e[...] = self.rho_c * (T - self.T0) + np.where(liquid, self.rho_L, 0.0)
         self.T[...] = T
+        self._dt_prev[:] = 0.0  # no prediction across an imposed state
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
     def step(self, sigma_n, v_free, slip_prev, k, tau_cap, dt: float):
         """Advance all columns by dt; return (tau, v_half) (see the class docstring)."""
         nc = self.n_columns
+        pw = predictor_weights(float(dt), self._dt_prev[0], self._dt_prev[1])
+        self._dt_prev[:] = float(dt), self._dt_prev[0]
         arr = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float), (nc,)))
                for a in (sigma_n, v_free, slip_prev, k, tau_cap)]
         viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
                           *arr, self.scg, self.par, float(dt), self.max_picard, self.tau, self._v_half,
                           self.slip_local, self.flux_in, self.film_thickness, self.iterations, self.status,
-                          self.energy)
+                          self.energy, self._de, self._de2, pw, self._work)
         self.slip_macro[:] = np.abs(0.5 * (self._v_half + arr[2]))
         return self.tau.copy(), self._v_half.copy()
 
