@@ -70,7 +70,7 @@ ERR_MESSAGES = {ERR_INVERTED: "inverted or degenerate cell (non-positive volume 
 
 # --------------------------------------------------------------------------- forces
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def edge_viscosity(xa, ya, xb, yb, ua, va, ub, vb, xc, yc, rho, c, cq, cl, axi):
     """Edge artificial viscosity on the cell edge a-b (after Caramana, Shashkov & Whalen 1998).
 
@@ -226,7 +226,7 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
             invv = (1.0 / vol if vol > 0.0 else 1.0) if axi else inva
             on, sf0, sf1, sf2, sf3, sg0, sg1, sg2, sg3 = shear_viscosity_forces(
                 shear[c], rho[c], s_xx, s_yy, a_xy, yld[c], elastic_only, scl, scq, area, vol, invv, sqa,
-                bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, u0, u1, u2, u3, w0, w1, w2, w3)
+                (bx0, bx1, bx2, bx3), (by0, by1, by2, by3), (h0, h1, h2, h3), (u0, u1, u2, u3), (w0, w1, w2, w3))
             if on:
                 f0 += sf0
                 f1 += sf1
