@@ -209,9 +209,13 @@ class Simulation:
         """Advance t^n -> t^{n+1} (steps 1-6 of the module docstring)."""
         if self._finished:
             raise RuntimeError("this simulation has finished (its velocities are at the final time)")
-        self._velocity_stage(final=False)
         dt = self.state.dt
-        self._advance_stage()
+        if self.parallel or self.interfaces or self._int_active or (
+                (self._getters or self.observers) and self.state.cycle % self.probe_every == 0):
+            self._velocity_stage(final=False)
+            self._advance_stage()
+        else:
+            self._fused_step()
         for obj in self._after_step:
             obj.after_step(self.state, dt, self.state.t, self.state.cycle)
 
@@ -284,6 +288,36 @@ class Simulation:
             qv = K.viscous_heat_sum(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv)
         self._record(ke, ie + 0.5 * qv + (q_int - q_before), budget)
 
+    def _fused_step(self) -> None:
+        """Steps 1-6 in one call (:func:`~shockfriction.hydro.kernels.cycle_serial`): one thread, no
+        interfaces (this step or the last), the viscous heat in the cell update (no history row with
+        probes or observers this cycle).  The same kernels, in the same order, as
+        :meth:`_velocity_stage` + :meth:`_advance_stage`, and the same energy book-keeping."""
+        s = self.state
+        dt = s.dt
+        dtv = 0.5 * (self._dt_prev + dt)
+        s.dt_velocity = dtv
+        record = s.cycle % self.probe_every == 0
+        self._heat_in_update = True
+        ie, wbc, ke, dtn, bad, code, qv = K.cycle_serial(
+            s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+            s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl, self.shear_visc,
+            *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass, record,
+            *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre, self._vy_pre, s.mass_own,
+            *self._cons, self._bc_nodes, self._jx_bc_prev, self._jy_bc_prev, dt, self._x_old, self._y_old, s.mat,
+            s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl,
+            self.dvmax, s.damage, self._scratch[0])
+        en = s.energy
+        if self._cons[0].shape[0]:
+            en.boundary_work += wbc
+        if record:  # the row at t^n, as _velocity_stage books it (no interface heat: q_int - q_before = 0)
+            q_before = en.interface_heat
+            q_int = 0.5 * (q_before + en.interface_heat)
+            budget = (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
+                      en.projection_work)
+            self._pending_row = (ke, ie, q_int - q_before, budget)
+        self._end_step(dt, dtn, bad, code, qv)
+
     def _apply_position_shifts(self) -> None:
         """Move x^n by the interfaces' position shifts (penetration projections): node groups
         share them, constrained directions keep none, -sum F.dx goes to the projection work."""
@@ -318,6 +352,11 @@ class Simulation:
             s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
             self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
             self._vx_old, self._vy_old, s.dt_velocity, self._scratch[0])
+        self._end_step(dt, dtn, bad, code, qv)
+
+    def _end_step(self, dt: float, dtn: float, bad: int, code: int, qv: float) -> None:
+        """After the cell update: the pending history row, a bad cell's error, t^{n+1}, the next step."""
+        s = self.state
         if self._pending_row is not None:  # the history row at t^n, now that its viscous heat is known
             ke, ie, dq, budget = self._pending_row
             self._pending_row = None
