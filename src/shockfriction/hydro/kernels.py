@@ -19,10 +19,13 @@ two passes over the cells and two over the nodes (docs/theory/fused-cycle.md).
   volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
   artificial viscosity q^{n+1/2}, energy update with the EOS, spall, temperature, moduli,
   sound speed and the cell's stable time step, reduced to the step of the cycle.
+* :func:`velocities_serial` (steps 1-3 without interfaces), :func:`advance_serial` (positions and
+  cells), :func:`cycle_serial` (both): the serial kernels above in fewer calls.
 
 The serial and parallel variants are the same Python function compiled twice
 (``prange`` is ``range`` without ``parallel=True``); per-cell helpers take and return
-scalars only (no array arguments: no reference counting in the inner loops).
+scalars only (no array arguments: no reference counting in the inner loops) and are inlined
+(``inline="always"``); the serial kernels are compiled without reference counting.
 Every kernel takes plain arrays and floats; sign convention: compression positive.
 """
 
@@ -790,17 +793,16 @@ update_cells_parallel = njit(cache=True, parallel=True)(_twin(_update_cells_impl
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
-                 scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
-                 vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev, jy_prev, dt,
-                 x_old, y_old, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work):
-    """One whole serial cycle without interfaces (steps 1-6, the viscous heat in the cell update), in one
-    call instead of seven: :func:`cell_forces_serial`, :func:`sum_groups`, :func:`advance_velocities`,
-    :func:`apply_constraints`, the constraints' :func:`impulse_work` over ``bc_nodes``,
-    :func:`kinetic_energy_product` (``record``), :func:`move_nodes` and :func:`update_cells_serial`,
-    called in the order of ``Simulation.step``.  Returns (internal energy at t^n (``record``), boundary
-    work, leapfrog kinetic energy at t^n (``record``), min stable dt, first bad cell or -1, its code,
-    viscous heat)."""
+def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                      scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes,
+                      mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev,
+                      jy_prev):
+    """Steps 1-3 of a serial cycle without interfaces (this step or the last) in one call:
+    :func:`cell_forces_serial`, :func:`sum_groups`, :func:`advance_velocities`,
+    :func:`apply_constraints`, the constraints' :func:`impulse_work` over ``bc_nodes`` (0 without
+    constraints) and, with ``record``, :func:`kinetic_energy_product`, in the order of
+    ``Simulation._velocity_stage``.  Returns (internal energy at t^n if ``record``, boundary work,
+    leapfrog kinetic energy at t^n if ``record``)."""
     ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
                             svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
     if grp_ptr.shape[0] > 1:
@@ -814,11 +816,37 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
     ke = 0.0
     if record:
         ke = kinetic_energy_product(vx_old, vy_old, vx, vy, mass_own)
+    return ie, wbc, ke
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
+                   heat_now, vcorner, vx_old, vy_old, dtv, work):
+    """Steps 5-6 in one call: :func:`move_nodes` (x^n kept in x_old, y_old), then
+    :func:`update_cells_serial` (same arguments and result)."""
     move_nodes(x, y, vx, vy, dt, x_old, y_old)
-    dtn, bad, code, qv = update_cells_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e,
-                                             e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl,
-                                             cfl, dvmax, dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old,
-                                             dtv, work)
+    return update_cells_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
+                               sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
+                               errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
+                 scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
+                 vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev, jy_prev, dt,
+                 x_old, y_old, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work):
+    """One whole serial cycle without interfaces, the viscous heat in the cell update (no history row
+    with probes or observers this cycle): :func:`velocities_serial` then :func:`advance_serial`, one
+    call instead of seven.  Returns (internal energy at t^n (``record``), boundary work, leapfrog
+    kinetic energy at t^n (``record``), min stable dt, first bad cell or -1, its code, viscous heat)."""
+    ie, wbc, ke = velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq,
+                                    cl, svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record,
+                                    grp_ptr, grp_nodes, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode,
+                                    cnx, cny, cval, bc_nodes, jx_prev, jy_prev)
+    dtn, bad, code, qv = advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el,
+                                        p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
+                                        dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old, dtv, work)
     return ie, wbc, ke, dtn, bad, code, qv
 
 
