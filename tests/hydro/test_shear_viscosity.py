@@ -21,8 +21,8 @@ def _forces(vx, vy, axi=False, elastic_only=False, sxx=0.0, yld=1e9):
     else:
         b, vol = list(bvec_planar(*X, *Y)[:8]) + [0.0] * 4, area
     on, *f = shear_viscosity_forces(26e9, 2700.0, sxx, 0.0, 0.0, yld, elastic_only, 0.15, 1.0, area, vol, 1.0 / vol,
-                                    np.sqrt(area), *b,
-                                    *vx, *vy)
+                                    np.sqrt(area), tuple(b[0:4]), tuple(b[4:8]), tuple(b[8:12]),
+                                    tuple(vx), tuple(vy))
     f = np.array(f)
     assert on == bool(np.any(f != 0.0))
     return f[:4], f[4:]

@@ -29,6 +29,9 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    see it at t^n); the state is the same either way.  The energy sums are taken only for a
    row (docs/theory/fused-cycle.md).
 
+On one thread, without interfaces and when the row (if any) has no probes or observers, steps 1-6
+are one call (:func:`~shockfriction.hydro.kernels.cycle_serial`, the same kernels in the same order).
+
 Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
 leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/hydrocode.md, sec. 5).
 """
@@ -209,9 +212,13 @@ class Simulation:
         """Advance t^n -> t^{n+1} (steps 1-6 of the module docstring)."""
         if self._finished:
             raise RuntimeError("this simulation has finished (its velocities are at the final time)")
-        self._velocity_stage(final=False)
         dt = self.state.dt
-        self._advance_stage()
+        if self.parallel or self.interfaces or self._int_active or (
+                (self._getters or self.observers) and self.state.cycle % self.probe_every == 0):
+            self._velocity_stage(final=False)
+            self._advance_stage()
+        else:
+            self._fused_step()
         for obj in self._after_step:
             obj.after_step(self.state, dt, self.state.t, self.state.cycle)
 
@@ -225,43 +232,56 @@ class Simulation:
         dtv = 0.5 * (self._dt_prev + dt)
         s.dt_velocity = dtv
         record = final or s.cycle % self.probe_every == 0
-        # 1-2 forces (and the internal energy at t^n for the history row)
-        ie = self._forces(record)
-        if self._grp[0].shape[0] > 1:
-            K.sum_groups(s.fx, s.fy, *self._grp)
         en = s.energy
-        q_before = en.interface_heat
-        # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
-        K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
-                             self._vy_pre)
-        K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
-        # 4 interfaces
-        int_prev = self._int_active
-        if self.interfaces:
-            self._vx_free[:] = s.vx
-            self._vy_free[:] = s.vy
-            for obj in self.interfaces:
-                obj.apply(s, dtv, s.t, s.cycle)
+        ke = None
+        if not (self.parallel or self.interfaces or self._int_active):
+            # 1-3 in one call (one thread, no interfaces this step or the last)
+            q_before = en.interface_heat
+            ie, wbc, ke = K.velocities_serial(
+                s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+                s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
+                self.shear_visc, *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el,
+                s.cell_mass, record, *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre, self._vy_pre,
+                s.mass_own, *self._cons, self._bc_nodes, self._jx_bc_prev, self._jy_bc_prev)
+            if self._cons[0].shape[0]:
+                en.boundary_work += wbc
+        else:
+            # 1-2 forces (and the internal energy at t^n for the history row)
+            ie = self._forces(record)
             if self._grp[0].shape[0] > 1:
-                K.sync_groups(s.vx, s.vy, self._vx_free, self._vy_free, *self._grp)
-            self._apply_position_shifts()
-            # the interfaces' jumps J = v - v_free; added to _vx_pre (constraint impulses = what the
-            # constraints changed)
-            en.interface_work += K.impulse_work(self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx,
-                                                s.vy, self._vx_free, self._vy_free, self._jx_int_prev,
-                                                self._jy_int_prev, True, self._vx_pre, self._vy_pre)
+                K.sum_groups(s.fx, s.fy, *self._grp)
+            q_before = en.interface_heat
+            # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
+            K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
+                                 self._vy_pre)
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
-        elif self._int_active:  # no jumps this step, the last step's still count
-            en.interface_work += K.impulse_work(self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx,
-                                                s.vy, s.vx, s.vy, self._jx_int_prev, self._jy_int_prev, False,
-                                                self._vx_pre, self._vy_pre)
-        self._int_active = bool(self.interfaces)
-        if self._cons[0].shape[0]:
-            # without interfaces (this step and the last) the jumps live on the constrained nodes only
-            nodes = self._all_nodes if (self._int_active or int_prev) else self._bc_nodes
-            en.boundary_work += K.impulse_work(nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy,
-                                               self._vx_pre, self._vy_pre, self._jx_bc_prev, self._jy_bc_prev,
-                                               False, self._vx_pre, self._vy_pre)
+            # 4 interfaces
+            int_prev = self._int_active
+            if self.interfaces:
+                self._vx_free[:] = s.vx
+                self._vy_free[:] = s.vy
+                for obj in self.interfaces:
+                    obj.apply(s, dtv, s.t, s.cycle)
+                if self._grp[0].shape[0] > 1:
+                    K.sync_groups(s.vx, s.vy, self._vx_free, self._vy_free, *self._grp)
+                self._apply_position_shifts()
+                # the interfaces' jumps J = v - v_free; added to _vx_pre (constraint impulses = what the
+                # constraints changed)
+                en.interface_work += K.impulse_work(self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx,
+                                                    s.vy, self._vx_free, self._vy_free, self._jx_int_prev,
+                                                    self._jy_int_prev, True, self._vx_pre, self._vy_pre)
+                K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
+            elif self._int_active:  # no jumps this step, the last step's still count
+                en.interface_work += K.impulse_work(self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx,
+                                                    s.vy, s.vx, s.vy, self._jx_int_prev, self._jy_int_prev, False,
+                                                    self._vx_pre, self._vy_pre)
+            self._int_active = bool(self.interfaces)
+            if self._cons[0].shape[0]:
+                # without interfaces (this step and the last) the jumps live on the constrained nodes only
+                nodes = self._all_nodes if (self._int_active or int_prev) else self._bc_nodes
+                en.boundary_work += K.impulse_work(nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy,
+                                                   self._vx_pre, self._vy_pre, self._jx_bc_prev, self._jy_bc_prev,
+                                                   False, self._vx_pre, self._vy_pre)
         # heat of the hourglass / edge / shear viscosity forces over this velocity step: in the cell
         # update, unless the history row of this cycle has probes or observers, which must see it in
         # the cells at t^n: then here, before the row (a row without them is completed after the
@@ -272,7 +292,8 @@ class Simulation:
             return
         # heat put into cells during this step counts half at t^n (it is centred there)
         q_int = 0.5 * (q_before + en.interface_heat)
-        ke = K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own)
+        if ke is None:
+            ke = K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own)
         budget = (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
                   en.projection_work)
         if in_update:
@@ -283,6 +304,36 @@ class Simulation:
         if self.parallel:  # the sum in cell order (see _forces)
             qv = K.viscous_heat_sum(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv)
         self._record(ke, ie + 0.5 * qv + (q_int - q_before), budget)
+
+    def _fused_step(self) -> None:
+        """Steps 1-6 in one call (:func:`~shockfriction.hydro.kernels.cycle_serial`): one thread, no
+        interfaces (this step or the last), the viscous heat in the cell update (no history row with
+        probes or observers this cycle).  The same kernels, in the same order, as
+        :meth:`_velocity_stage` + :meth:`_advance_stage`, and the same energy book-keeping."""
+        s = self.state
+        dt = s.dt
+        dtv = 0.5 * (self._dt_prev + dt)
+        s.dt_velocity = dtv
+        record = s.cycle % self.probe_every == 0
+        self._heat_in_update = True
+        ie, wbc, ke, dtn, bad, code, qv = K.cycle_serial(
+            s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+            s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl, self.shear_visc,
+            *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass, record,
+            *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre, self._vy_pre, s.mass_own,
+            *self._cons, self._bc_nodes, self._jx_bc_prev, self._jy_bc_prev, dt, self._x_old, self._y_old, s.mat,
+            s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl,
+            self.dvmax, s.damage, self._scratch[0])
+        en = s.energy
+        if self._cons[0].shape[0]:
+            en.boundary_work += wbc
+        if record:  # the row at t^n, as _velocity_stage books it (no interface heat: q_int - q_before = 0)
+            q_before = en.interface_heat
+            q_int = 0.5 * (q_before + en.interface_heat)
+            budget = (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
+                      en.projection_work)
+            self._pending_row = (ke, ie, q_int - q_before, budget)
+        self._end_step(dt, dtn, bad, code, qv)
 
     def _apply_position_shifts(self) -> None:
         """Move x^n by the interfaces' position shifts (penetration projections): node groups
@@ -309,15 +360,21 @@ class Simulation:
         s = self.state
         dt = s.dt
         # 5 positions
-        K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
-        # 6 cells
-        update = K.update_cells_parallel if self.parallel else K.update_cells_serial
+        if self.parallel:
+            K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
+        # 6 cells (serial: 5 and 6 in one call)
+        update = K.update_cells_parallel if self.parallel else K.advance_serial
         dtn, bad, code, qv = update(
             s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
             s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
             s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
             self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
             self._vx_old, self._vy_old, s.dt_velocity, self._scratch[0])
+        self._end_step(dt, dtn, bad, code, qv)
+
+    def _end_step(self, dt: float, dtn: float, bad: int, code: int, qv: float) -> None:
+        """After the cell update: the pending history row, a bad cell's error, t^{n+1}, the next step."""
+        s = self.state
         if self._pending_row is not None:  # the history row at t^n, now that its viscous heat is known
             ke, ie, dq, budget = self._pending_row
             self._pending_row = None

@@ -29,7 +29,7 @@ from shockfriction.hydro.matprops import (
 )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def eos_ab_s(rho, kind, rho0, c0, s, g0, gamma):
     """(A, B, dA/drho) of P = A + B e from scalar parameters (kind: 0 Mie-Grueneisen, 1 ideal gas,
     2 Mie-Grueneisen with the cubic tension branch)."""
@@ -73,7 +73,7 @@ def sound_speed2_s(rho, p, kind, rho0, c0, s, g0, gamma):
     return sound_speed2_ab(rho, p, kind, c0, b, da)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def sound_speed2_ab(rho, p, kind, c0, b, da):
     """:func:`sound_speed2_s` from B and dA/drho of :func:`eos_ab_s` at ``rho`` (already known)."""
     c2 = da + p * b / (rho * rho)

@@ -19,10 +19,13 @@ two passes over the cells and two over the nodes (docs/theory/fused-cycle.md).
   volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
   artificial viscosity q^{n+1/2}, energy update with the EOS, spall, temperature, moduli,
   sound speed and the cell's stable time step, reduced to the step of the cycle.
+* :func:`velocities_serial` (steps 1-3 without interfaces), :func:`advance_serial` (positions and
+  cells), :func:`cycle_serial` (both): the serial kernels above in fewer calls.
 
 The serial and parallel variants are the same Python function compiled twice
 (``prange`` is ``range`` without ``parallel=True``); per-cell helpers take and return
-scalars only (no array arguments: no reference counting in the inner loops).
+scalars only (no array arguments: no reference counting in the inner loops) and are inlined
+(``inline="always"``); the serial kernels are compiled without reference counting.
 Every kernel takes plain arrays and floats; sign convention: compression positive.
 """
 
@@ -33,6 +36,7 @@ import types
 
 import numpy as np
 from numba import njit, prange
+from numba.core.options import DefaultOptions
 
 from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_ab, temperature
 from shockfriction.hydro.geometry import (
@@ -61,6 +65,10 @@ def _twin(func, suffix: str):
     return twin
 
 
+# The serial kernels allocate nothing and are compiled without numba's reference counting (``_nrt=False``):
+# no atomic increment/decrement of every array argument on each call (docs/theory/fused-cycle.md).
+NO_REFCOUNT = {"_nrt": False} if hasattr(DefaultOptions, "_nrt") else {}
+
 ERR_NONE = 0
 ERR_INVERTED = 1
 ERR_NAN = 2
@@ -70,7 +78,7 @@ ERR_MESSAGES = {ERR_INVERTED: "inverted or degenerate cell (non-positive volume 
 
 # --------------------------------------------------------------------------- forces
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def edge_viscosity(xa, ya, xb, yb, ua, va, ub, vb, xc, yc, rho, c, cq, cl, axi):
     """Edge artificial viscosity on the cell edge a-b (after Caramana, Shashkov & Whalen 1998).
 
@@ -226,7 +234,7 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
             invv = (1.0 / vol if vol > 0.0 else 1.0) if axi else inva
             on, sf0, sf1, sf2, sf3, sg0, sg1, sg2, sg3 = shear_viscosity_forces(
                 shear[c], rho[c], s_xx, s_yy, a_xy, yld[c], elastic_only, scl, scq, area, vol, invv, sqa,
-                bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, u0, u1, u2, u3, w0, w1, w2, w3)
+                (bx0, bx1, bx2, bx3), (by0, by1, by2, by3), (h0, h1, h2, h3), (u0, u1, u2, u3), (w0, w1, w2, w3))
             if on:
                 f0 += sf0
                 f1 += sf1
@@ -273,7 +281,7 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
     return ie
 
 
-cell_forces_serial = njit(cache=True)(_cell_forces_impl)
+cell_forces_serial = njit(cache=True, **NO_REFCOUNT)(_cell_forces_impl)
 cell_forces_parallel = njit(cache=True, parallel=True)(_twin(_cell_forces_impl, "_parallel"))
 
 
@@ -299,7 +307,7 @@ def viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c):
     return -0.5 * dt * w
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def viscous_heat_sum(conn, vcorner, vx0, vy0, vx1, vy1, dt):
     """sum_c of :func:`viscous_cell_heat` in cell order (the serial kernels' sum, whatever the thread count)."""
     total = 0.0
@@ -308,7 +316,7 @@ def viscous_heat_sum(conn, vcorner, vx0, vy0, vx1, vy1, dt):
     return total
 
 
-viscous_heat_serial = njit(cache=True)(_viscous_heat_impl)
+viscous_heat_serial = njit(cache=True, **NO_REFCOUNT)(_viscous_heat_impl)
 viscous_heat_parallel = njit(cache=True, parallel=True)(_twin(_viscous_heat_impl, "_parallel"))
 
 
@@ -329,7 +337,7 @@ def gather_forces(corner, node_ptr, node_corner, fx, fy):
 
 # --------------------------------------------------------------------------- nodes
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, dt):
     """Project each constrained node: v <- v - (v.n - value) n, in list order.
 
@@ -349,7 +357,7 @@ def apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, d
     return work
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def impulse_work(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry, cx, cy):
     """Kinetic-energy change that velocity jumps J = v - v_ref (constraints, interfaces) make in the
     leapfrog kinetic energy K^n = sum m v^{n-1/2}.v^{n+1/2}/2 at t^n: sum m v^{n-1/2}.(J^n + J^{n-1})/2
@@ -370,7 +378,7 @@ def impulse_work(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_pre
     return 0.5 * w
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def sum_groups(fx, fy, grp_ptr, grp_nodes):
     """Sum the forces of each node group (tie, periodic pair) and give the sum to every member."""
     for g in range(grp_ptr.shape[0] - 1):
@@ -384,7 +392,7 @@ def sum_groups(fx, fy, grp_ptr, grp_nodes):
             fy[grp_nodes[k]] = sy
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def sync_groups(vx, vy, vx_ref, vy_ref, grp_ptr, grp_nodes):
     """Give every member of a group the sum of the members' velocity changes since (vx_ref, vy_ref).
 
@@ -403,7 +411,7 @@ def sync_groups(vx, vy, vx_ref, vy_ref, grp_ptr, grp_nodes):
             vy[n] = vy_ref[n] + dy
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre):
     """v* = v + dt F/m (m: the group mass of the node); v is kept in (vx_old, vy_old) and v* in
     (vx_pre, vy_pre) (the velocities before the constraints)."""
@@ -420,7 +428,7 @@ def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre)
         vy_pre[n] = w
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def move_nodes(x, y, vx, vy, dt, x_old, y_old):
     """Keep x^n in (x_old, y_old) and set x^{n+1} = x^n + dt v^{n+1/2}."""
     for n in range(x.shape[0]):
@@ -432,7 +440,7 @@ def move_nodes(x, y, vx, vy, dt, x_old, y_old):
         y[n] = w + dt * vy[n]
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def kinetic_energy(vx, vy, mass_own):
     s = 0.0
     for n in range(vx.shape[0]):
@@ -440,7 +448,7 @@ def kinetic_energy(vx, vy, mass_own):
     return 0.5 * s
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def kinetic_energy_product(vx0, vy0, vx1, vy1, mass_own):
     """Leapfrog kinetic energy at t^n: sum m v^{n-1/2}.v^{n+1/2} / 2."""
     s = 0.0
@@ -449,7 +457,7 @@ def kinetic_energy_product(vx0, vy0, vx1, vy1, mass_own):
     return 0.5 * s
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def momentum(vx, vy, mass_own):
     px = 0.0
     py = 0.0
@@ -459,7 +467,7 @@ def momentum(vx, vy, mass_own):
     return px, py
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def internal_energy(e, e_el, cmass):
     s = 0.0
     for c in range(e.shape[0]):
@@ -780,11 +788,69 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
     return dtmin, -1, ERR_NONE, qv
 
 
-update_cells_serial = njit(cache=True)(_update_cells_impl)
+update_cells_serial = njit(cache=True, **NO_REFCOUNT)(_update_cells_impl)
 update_cells_parallel = njit(cache=True, parallel=True)(_twin(_update_cells_impl, "_parallel"))
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
+def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                      scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes,
+                      mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev,
+                      jy_prev):
+    """Steps 1-3 of a serial cycle without interfaces (this step or the last) in one call:
+    :func:`cell_forces_serial`, :func:`sum_groups`, :func:`advance_velocities`,
+    :func:`apply_constraints`, the constraints' :func:`impulse_work` over ``bc_nodes`` (0 without
+    constraints) and, with ``record``, :func:`kinetic_energy_product`, in the order of
+    ``Simulation._velocity_stage``.  Returns (internal energy at t^n if ``record``, boundary work,
+    leapfrog kinetic energy at t^n if ``record``)."""
+    ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
+                            svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
+    if grp_ptr.shape[0] > 1:
+        sum_groups(fx, fy, grp_ptr, grp_nodes)
+    advance_velocities(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre)
+    apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, dtv)
+    wbc = 0.0
+    if cnode.shape[0]:
+        wbc = impulse_work(bc_nodes, mass_own, vx_old, vy_old, vx, vy, vx_pre, vy_pre, jx_prev, jy_prev, False,
+                           vx_pre, vy_pre)
+    ke = 0.0
+    if record:
+        ke = kinetic_energy_product(vx_old, vy_old, vx, vy, mass_own)
+    return ie, wbc, ke
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
+                   heat_now, vcorner, vx_old, vy_old, dtv, work):
+    """Steps 5-6 in one call: :func:`move_nodes` (x^n kept in x_old, y_old), then
+    :func:`update_cells_serial` (same arguments and result)."""
+    move_nodes(x, y, vx, vy, dt, x_old, y_old)
+    return update_cells_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
+                               sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
+                               errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
+                 scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
+                 vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev, jy_prev, dt,
+                 x_old, y_old, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work):
+    """One whole serial cycle without interfaces, the viscous heat in the cell update (no history row
+    with probes or observers this cycle): :func:`velocities_serial` then :func:`advance_serial`, one
+    call instead of seven.  Returns (internal energy at t^n (``record``), boundary work, leapfrog
+    kinetic energy at t^n (``record``), min stable dt, first bad cell or -1, its code, viscous heat)."""
+    ie, wbc, ke = velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq,
+                                    cl, svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record,
+                                    grp_ptr, grp_nodes, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode,
+                                    cnx, cny, cval, bc_nodes, jx_prev, jy_prev)
+    dtn, bad, code, qv = advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el,
+                                        p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
+                                        dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old, dtv, work)
+    return ie, wbc, ke, dtn, bad, code, qv
+
+
+@njit(cache=True, **NO_REFCOUNT)
 def initial_time_step(conn, x, y, vx, vy, cs, cfl, dvmax, axi):
     """First step: cfl (area / max diagonal)/c, and <= dvmax/|div v^0| (the volume-change cap
     with the initial velocity field)."""

@@ -29,7 +29,7 @@ NEWTON_RTOL = 1e-12
 NEWTON_MAXIT = 100
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rotate_deviator(sxx, syy, sxy, spin, dt):
     """Hughes-Winget rotation of the in-plane deviator by the spin W_xy = spin (= (du/dy - dv/dx)/2)."""
     beta = 0.5 * spin * dt
@@ -45,7 +45,7 @@ def rotate_deviator(sxx, syy, sxy, spin, dt):
     return nxx, nyy, nxy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def hardening(eps, y0, beta, n, ymax):
     """min(Ymax, Y0 (1 + beta eps)^n) and its derivative in eps."""
     base = 1.0 + beta * eps
@@ -79,7 +79,7 @@ def yield_stress_s(eps_p, ratio, kind, y_epp, y0, beta, n, ymax):
     return y * ratio
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def radial_return_s(sxx, syy, sxy, eps_p, G, ratio, kind, y_epp, y0, beta, n, ymax, y_now):
     """Return (sxx, syy, sxy, d_eps, Y, h) after the yield check and radial return.
 

@@ -31,17 +31,21 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
-def shear_viscosity_forces(g, r, s_xx, s_yy, s_xy, yld, elastic_only, cl, cq, area, vol, inv, lq,
-                           bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3,
-                           u0, u1, u2, u3, w0, w1, w2, w3):
+@njit(cache=True, inline="always")
+def shear_viscosity_forces(g, r, s_xx, s_yy, s_xy, yld, elastic_only, cl, cq, area, vol, inv, lq, bx, by, h, u, w):
     """Corner forces F_i = -Q b_i of one cell's shear viscosity Q = 2 eta D' (module docstring):
     (active, fx0..fx3, fy0..fy3), active = False and zero forces where Q = 0.
 
     ``g`` the cell's shear modulus, ``r`` its density, (s_xx, s_yy, s_xy) its deviator, ``yld``
     its flow stress; ``area`` the plane area, ``vol`` the volume (= area in plane strain), ``inv`` =
     1/vol and ``lq`` = sqrt(area) (the caller has them; any value where area or vol <= 0), b_i and
-    h_i the cell's gradient vectors at x^n and (u_i, w_i) the node velocities v^{n-1/2}."""
+    h_i the cell's gradient vectors at x^n and (u_i, w_i) the node velocities v^{n-1/2}, each a
+    4-tuple (bx = (bx0, .., bx3) ...: fewer than 30 arguments, so that numba can inline it)."""
+    bx0, bx1, bx2, bx3 = bx
+    by0, by1, by2, by3 = by
+    h0, h1, h2, h3 = h
+    u0, u1, u2, u3 = u
+    w0, w1, w2, w3 = w
     if g <= 0.0:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if elastic_only:

@@ -7,7 +7,9 @@ index), and per output ``/step_NNNNN/`` with node arrays ``x, y, vx, vy``, ``xy`
 (nodes x 2, the XDMF geometry) and cell arrays ``rho, p, q, e, T, eps_p, sxx, syy,
 sxy, szz, Y, damage`` (SI; damage >= 1: failed by spall), attribute ``time``.
 The HDF5 file is flushed after every output and closed on failure; ``fields.xmf`` is
-rewritten whole (atomically) after every output.
+rewritten whole (atomically) by :meth:`FieldWriter.write_index`, which the run's outputs call
+at their next flush, just before ``summary.json`` (so that a killed run's index never lists an
+output past the summary's time), and at the close.
 
 ``fields.xmf``: a temporal collection of uniform grids, each with its own Geometry
 ``XY`` (the Lagrangian mesh moves), Topology ``Quadrilateral``, node attributes
@@ -39,6 +41,8 @@ class FieldWriter:
         self._next = 0
         self._written: list[tuple[int, float]] = []
         self._n_nodes = None
+        self._n_cells = 0
+        self._n_indexed = 0  # outputs listed in fields.xmf
         if keep is not None:  # restart: (outputs kept, next output time index) from the checkpoint
             self._resume(*keep)
             return
@@ -101,10 +105,16 @@ class FieldWriter:
         self._h5.flush()
         self._written.append((k, s.t))
         self._n_nodes = s.n_nodes
-        self._write_xdmf(s.n_cells)
+        self._n_cells = s.n_cells
+
+    def write_index(self) -> None:
+        """Rewrite ``fields.xmf`` if outputs were written since the last call."""
+        if self._n_indexed != len(self._written):
+            self._write_xdmf(self._n_cells)
 
     def _write_xdmf(self, n_cells: int) -> None:
         write_text_atomic(self.out_dir / "fields.xmf", xdmf_text("fields.h5", self._written, self._n_nodes, n_cells))
+        self._n_indexed = len(self._written)
 
     def close(self, sim=None) -> None:
         """Write the final state if an output time was reached at the end, then close the file."""
@@ -112,6 +122,7 @@ class FieldWriter:
                 and sim.state.t >= self.times[self._next] * (1 - 1e-9):
             self._next = len(self.times)
             self.write(sim)
+        self.write_index()
         if self._h5.id.valid:
             self._h5.close()
 

@@ -144,6 +144,8 @@ class RunOutputs:
             self.records.append()
         self._n_records = self._count_records()
         self._n_fields = pos["fields"][0] if pos["fields"] else 0
+        if self.fields is not None:
+            self.fields.write_index()  # the field index, then the summary: never ahead of it
         self.write_summary(completed)
         self._last_flush = time.perf_counter()
         return pos
