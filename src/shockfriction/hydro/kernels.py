@@ -36,7 +36,6 @@ import types
 
 import numpy as np
 from numba import njit, prange
-from numba.core.options import DefaultOptions
 
 from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_ab, temperature
 from shockfriction.hydro.geometry import (
@@ -50,6 +49,7 @@ from shockfriction.hydro.matprops import (
 from shockfriction.hydro.shear_viscosity import shear_viscosity_forces
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.hydro.spall import spall_damage
+from shockfriction.jit_options import NO_REFCOUNT
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
 
 def _twin(func, suffix: str):
@@ -65,9 +65,6 @@ def _twin(func, suffix: str):
     return twin
 
 
-# The serial kernels allocate nothing and are compiled without numba's reference counting (``_nrt=False``):
-# no atomic increment/decrement of every array argument on each call (docs/theory/fused-cycle.md).
-NO_REFCOUNT = {"_nrt": False} if hasattr(DefaultOptions, "_nrt") else {}
 
 ERR_NONE = 0
 ERR_INVERTED = 1

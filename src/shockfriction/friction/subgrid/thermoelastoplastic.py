@@ -38,20 +38,18 @@ import math
 
 import numpy as np
 from numba import njit
-from numba.core.options import DefaultOptions
 
 from shockfriction.friction.subgrid.rootfind import B, BRENT_STATE, C, FB, brent_feed, brent_next, brent_start
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, OK, SQRT3,
                                                            corrected_slip, friction_stress)
+from shockfriction.jit_options import NO_REFCOUNT
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, scg_shear_ratio
 
 
 # The kernels of the root iteration allocate nothing: the per-column solve is compiled without numba's
 # reference counting (``_nrt=False``) and its helpers are inlined into it (``inline='always'``), so that the
 # array views and arguments of each evaluation cost no atomic increment/decrement
-# (docs/theory/subgrid-layout.md, section 6).  Only the speed depends on it: a numba without the
-# option compiles the same kernel with reference counting.
-NO_REFCOUNT = {"_nrt": False} if hasattr(DefaultOptions, "_nrt") else {}
+# (docs/theory/subgrid-layout.md, section 6; shockfriction.jit_options).
 
 
 # ln of the largest closed-form (1 + beta eps_target) used: x^(1/n) is capped at exp(300) ~ 1e130, so that
