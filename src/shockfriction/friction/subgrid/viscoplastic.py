@@ -763,7 +763,7 @@ class ViscoplasticColumns:
                  far_temperature: float | None = None, latent_heat: float | None = None,
                  liquid_viscosity: float | None = None, liquid_activation: float | None = None,
                  far_end: str = "impedance", mech_tol: float = 1e-13, heat_tol: float = 1e-11,
-                 picard_tol: float = 1e-6, max_picard: int = 30):
+                 picard_tol: float = 1e-6, max_picard: int = 100):
         from shockfriction.friction.subgrid.column import control_weights, extend_grid, make_grid
         from shockfriction.materials.library import get_material
         m = get_material(material) if isinstance(material, str) else material
