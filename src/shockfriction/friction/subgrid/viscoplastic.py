@@ -188,7 +188,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     G0, T_F = p[I_G0], p[I_TF]
     Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
-    tresca = f * p[I_YMAX] / SQRT3
+    tresca = f * Ymax / SQRT3
     mass = np.empty(nn)
     for i in range(nn):
         mass[i] = rho * w[i] if inertia else 0.0
@@ -229,8 +229,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     for c in range(M):
         for j in range(nc):
             sold[c, j] = Gs[c, j] * ge[c, j]
-            y = p[I_Y0] * (1.0 + p[I_BETA] * eps[c, j]) ** p[I_N]
-            yh[c, j] = min(p[I_YMAX], y)
+            yh[c, j] = min(Ymax, Y0 * (1.0 + beta_h * eps[c, j]) ** n_h)
     act = np.ones(nc, np.bool_)
     stick = np.zeros(nc, np.bool_)
     sgn = np.empty(nc)
@@ -504,7 +503,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 de[i, j] = 0.0
                 de2[i, j] = 0.0
             continue
-        if iters[j] >= max_iter:
+        if not fin[j]:
             iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is still exact)
         vh = v_half[j]
         energy[E_FRICTION, j] += ts[j] * 0.5 * (vh + v_prev[j]) * dt
