@@ -213,7 +213,7 @@ class Simulation:
         if self._finished:
             raise RuntimeError("this simulation has finished (its velocities are at the final time)")
         dt = self.state.dt
-        if self.parallel or self.interfaces or self._int_active or (
+        if not self._plain_serial or (
                 (self._getters or self.observers) and self.state.cycle % self.probe_every == 0):
             self._velocity_stage(final=False)
             self._advance_stage()
@@ -221,6 +221,11 @@ class Simulation:
             self._fused_step()
         for obj in self._after_step:
             obj.after_step(self.state, dt, self.state.t, self.state.cycle)
+
+    @property
+    def _plain_serial(self) -> bool:
+        """One thread and no interfaces this step or the last: steps 1-3 run as one call."""
+        return not (self.parallel or self.interfaces or self._int_active)
 
     def _velocity_stage(self, final: bool) -> None:
         """Steps 1-4 and the histories at t^n.  ``final``: the row at the end time, with a virtual
@@ -234,7 +239,7 @@ class Simulation:
         record = final or s.cycle % self.probe_every == 0
         en = s.energy
         ke = None
-        if not (self.parallel or self.interfaces or self._int_active):
+        if self._plain_serial:
             # 1-3 in one call (one thread, no interfaces this step or the last)
             q_before = en.interface_heat
             ie, wbc, ke = K.velocities_serial(
@@ -327,12 +332,10 @@ class Simulation:
         en = s.energy
         if self._cons[0].shape[0]:
             en.boundary_work += wbc
-        if record:  # the row at t^n, as _velocity_stage books it (no interface heat: q_int - q_before = 0)
-            q_before = en.interface_heat
-            q_int = 0.5 * (q_before + en.interface_heat)
-            budget = (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
+        if record:  # the row at t^n, as _velocity_stage books it (no interface heat this step: q_int = q_before)
+            budget = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work, en.contact_work,
                       en.projection_work)
-            self._pending_row = (ke, ie, q_int - q_before, budget)
+            self._pending_row = (ke, ie, 0.0, budget)
         self._end_step(dt, dtn, bad, code, qv)
 
     def _apply_position_shifts(self) -> None:

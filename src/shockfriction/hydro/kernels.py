@@ -65,7 +65,6 @@ def _twin(func, suffix: str):
     return twin
 
 
-
 ERR_NONE = 0
 ERR_INVERTED = 1
 ERR_NAN = 2

@@ -41,7 +41,6 @@ class FieldWriter:
         self._next = 0
         self._written: list[tuple[int, float]] = []
         self._n_nodes = None
-        self._n_cells = 0
         self._n_indexed = 0  # outputs listed in fields.xmf
         if keep is not None:  # restart: (outputs kept, next output time index) from the checkpoint
             self._resume(*keep)
@@ -105,12 +104,11 @@ class FieldWriter:
         self._h5.flush()
         self._written.append((k, s.t))
         self._n_nodes = s.n_nodes
-        self._n_cells = s.n_cells
 
     def write_index(self) -> None:
         """Rewrite ``fields.xmf`` if outputs were written since the last call."""
         if self._n_indexed != len(self._written):
-            self._write_xdmf(self._n_cells)
+            self._write_xdmf(self._h5["connectivity"].shape[0])
 
     def _write_xdmf(self, n_cells: int) -> None:
         write_text_atomic(self.out_dir / "fields.xmf", xdmf_text("fields.h5", self._written, self._n_nodes, n_cells))
