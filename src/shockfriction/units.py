@@ -195,3 +195,5 @@ PositiveTime = Annotated[Time, Field(gt=0.0)]
 NonNegativeTime = Annotated[Time, Field(ge=0.0)]
 NonNegativePressure = Annotated[Pressure, Field(ge=0.0)]
 PositiveTemperature = Annotated[Temperature, Field(gt=0.0)]
+#: the viscoplastic column's Picard tolerance, a temperature change in kelvin ("1e-6 K")
+PicardTolerance = Annotated[Temperature, Field(gt=0.0, le=1.0)]

@@ -1,7 +1,10 @@
 """The viscoplastic sub-grid columns as slide-line friction (law 'subgrid-viscoplastic') in the coupled strip."""
 
 import numpy as np
+import pytest
 
+from shockfriction.errors import DeckError
+from shockfriction.friction.subgrid.viscoplastic import P_PICARD_TOL
 from shockfriction.hydro.api import prepare, run_simulation
 
 
@@ -52,3 +55,17 @@ def test_pressure_shear_ti6al4v_reduces_to_the_thermoelastic_model(tmp_path):
           f"max Theta(0) {a['theta_interface_K'].max():.1f} / {b['theta_interface_K'].max():.1f} K", end="")
     assert a["theta_interface_K"].max() > 700.0  # the regime: the interface heats by ~480 K
     assert dT < 4e-3 and dtau < 5e-4
+
+
+def test_slide_line_passes_the_tolerance_to_the_viscoplastic_columns(coupled_decks):
+    deck = coupled_decks["strip"](target="Al5083-H111", model="viscoplastic", mu0=0.3, f=0.3, end="0.3 us",
+                                   picard_tol="1e-3 K")
+    fm = prepare(deck).interfaces[0].line.friction_model
+    assert fm.columns.vp.par[P_PICARD_TOL] == 1e-3
+
+
+def test_slide_line_refuses_the_tolerance_for_another_law(coupled_decks):
+    deck = coupled_decks["strip"](target="Al5083-H111", model="thermoelastic", mu0=0.3, f=0.3, end="0.3 us",
+                                   picard_tol="1e-3 K")
+    with pytest.raises(DeckError, match=r"slide_lines\[0\].*picard_tol only with the subgrid-viscoplastic law"):
+        prepare(deck)

@@ -80,3 +80,44 @@ def test_film_thickness_follows_the_conduction_balance(runs):
     assert d_one == pytest.approx(estimate, rel=0.06)
     assert d_one / d_half == pytest.approx(math.sqrt(2.0), rel=0.04)
     assert np.isfinite(d_one)
+
+
+def onset(dz, dt, t_end=0.15e-6):
+    """tau (Pa) and film thickness after every step to t_end, and the time of the first molten step."""
+    layer = 2e-6
+    col = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=layer, n_cells=int(round(layer / dz)),
+                              depth=1.2 * AL.shear_wave_speed * t_end, eta_vp=50.0, inertia=True)
+    n = int(round(t_end / dt))
+    t, tau, film = np.arange(1, n + 1) * dt, np.empty(n), np.empty(n)
+    for s in range(n):
+        tau[s] = col.step(SIGMA_N, V, V, 0.0, MU0 * SIGMA_N, dt)[0][0]
+        film[s] = col.film_thickness[0]
+        assert col.status[0] == 0
+    return t, tau, film
+
+
+def test_melt_onset_transient():
+    """The first nanoseconds after the melt (docs/theory/viscoplastic.md, "The melt onset").  The surface reaches
+    T_F at the same step on 40 and 10 nm cells; the friction stress then falls from 250 MPa to ~120 MPa in ~5 ns,
+    faster than the 1 ns step resolves, and the 40 nm surface cell starts melting later than the 10 nm one
+    (enthalpy smearing over its 20 nm control volume), so the value at the first molten 1 ns step differs by
+    9 % between the grids (measured 166.6 / 152.3 MPa; a limitation, pinned so that a change is noticed).
+    5 ns later the four runs (40 / 10 nm cells, 1 / 0.25 ns steps) agree to 1.8 % (measured), 50 ns later to 0.6 %."""
+    runs = {(dz, dt): onset(dz, dt) for dz in (40e-9, 10e-9) for dt in (1e-9, 0.25e-9)}
+    first = {}
+    for key, (t, tau, film) in runs.items():
+        first[key] = t[np.argmax(film > 0.0)]
+    assert first[40e-9, 1e-9] == first[10e-9, 1e-9] == pytest.approx(100e-9)
+    assert first[40e-9, 0.25e-9] == first[10e-9, 0.25e-9] == pytest.approx(99.75e-9)
+
+    def at(key, time):
+        t, tau, _ = runs[key]
+        return tau[int(np.argmin(np.abs(t - time)))]
+
+    jump = at((40e-9, 1e-9), 100e-9) / at((10e-9, 1e-9), 100e-9) - 1.0
+    assert 0.05 < jump < 0.12  # regression pin of the unresolved transient (measured 0.093)
+    for time, tol in ((105e-9, 0.022), (150e-9, 0.008)):
+        vals = [at(key, time) for key in runs]
+        spread = max(vals) / min(vals) - 1.0
+        print(f"\nt = {time * 1e9:.0f} ns: tau {[round(float(v) / 1e6, 2) for v in vals]} MPa, spread {spread:.2%}", end="")
+        assert spread < tol

@@ -1,7 +1,8 @@
 """Deck fields of a sub-grid friction law on a slide line (validation only, no physics).
 
-A slide line's ``friction`` table takes ``law = "subgrid-thermoelastic"`` (thesis ch. 7) or
-``law = "subgrid-thermoelastoplastic"`` (ch. 8) with::
+A slide line's ``friction`` table takes ``law = "subgrid-thermoelastic"`` (thesis ch. 7),
+``law = "subgrid-thermoelastoplastic"`` (ch. 8) or ``law = "subgrid-viscoplastic"`` (docs/theory/viscoplastic.md)
+with::
 
     friction = { law = "subgrid-thermoelastic",
                  mu0 = 0.3,                 # Coulomb coefficient (cap mu0 F_N)
@@ -13,7 +14,8 @@ A slide line's ``friction`` table takes ``law = "subgrid-thermoelastic"`` (thesi
                  heat_share = 0.677,        # optional: share beta_T entering that body (default e1/(e1+e2))
                  taylor_quinney = 0.9,      # beta_Q (thermoelastoplastic)
                  profile_nodes = [0, 100],  # slave nodes whose T(z), eps_p(z) go to columns.h5
-                 profile_interval = "100 ns" } # default: 5 nodes, every 10th record
+                 profile_interval = "100 ns",  # default: 5 nodes, every 10th record
+                 picard_tol = "1e-6 K" }    # subgrid-viscoplastic only: its Picard tolerance (default 1e-6 K)
 
 These keys are the :class:`SubgridFrictionOptions` mix-in of the slide line's ``FrictionDeck``;
 they are refused for the other laws.
@@ -25,12 +27,12 @@ from typing import Literal, Optional
 
 from pydantic import BaseModel, Field, model_validator
 
-from shockfriction.units import Dimensionless, PositiveLength, PositiveTime
+from shockfriction.units import Dimensionless, PicardTolerance, PositiveLength, PositiveTime
 
 SUBGRID_LAWS = {"subgrid-thermoelastic": "thermoelastic", "subgrid-thermoelastoplastic": "thermoelastoplastic",
                 "subgrid-viscoplastic": "viscoplastic"}
 _OPTIONS = ("f", "thickness", "cells", "grading", "body", "heat_share", "taylor_quinney", "profile_nodes",
-            "profile_interval")
+            "profile_interval", "picard_tol")
 
 
 class SubgridFrictionOptions(BaseModel):
@@ -45,6 +47,8 @@ class SubgridFrictionOptions(BaseModel):
     taylor_quinney: Dimensionless = Field(0.9, ge=0.0, le=1.0, description="beta_Q")
     profile_nodes: Optional[list[int]] = Field(None, max_length=1000)
     profile_interval: Optional[PositiveTime] = None
+    picard_tol: Optional[PicardTolerance] = Field(
+        None, description="subgrid-viscoplastic only: Picard tolerance in kelvin, e.g. '1e-3 K' (omitted: 1e-6 K)")
 
     @model_validator(mode="after")
     def _subgrid_keys(self):
@@ -53,14 +57,16 @@ class SubgridFrictionOptions(BaseModel):
             missing = [k for k in ("mu0", "f") if getattr(self, k, None) is None]
             if missing:
                 raise ValueError(f"friction law {law!r} needs {', '.join(missing)}")
+            if law != "subgrid-viscoplastic" and "picard_tol" in self.model_fields_set:
+                raise ValueError(f"picard_tol only with the subgrid-viscoplastic law (law is {law!r})")
         else:
             given = [k for k in _OPTIONS if k in self.model_fields_set]
             if given:
-                raise ValueError(f"{', '.join(given)} only with a subgrid-thermoelastic or "
-                                 f"subgrid-thermoelastoplastic law (law is {law!r})")
+                raise ValueError(f"{', '.join(given)} only with a subgrid-thermoelastic, subgrid-thermoelastoplastic "
+                                 f"or subgrid-viscoplastic law (law is {law!r})")
         return self
 
     @property
     def subgrid_model(self) -> Optional[str]:
-        """'thermoelastic' / 'thermoelastoplastic' for a sub-grid law, else None."""
+        """'thermoelastic' / 'thermoelastoplastic' / 'viscoplastic' for a sub-grid law, else None."""
         return SUBGRID_LAWS.get(getattr(self, "law", None))

@@ -67,13 +67,14 @@ class SubgridFriction:
     def __init__(self, name: str, n_nodes: int, model: str, material, other, *, mu0: float, f: float,
                  thickness: float = 20e-6, cells: int = 500, grading: float = 1.0, taylor_quinney: float = 0.9,
                  T0: float = 300.0, bilateral: bool = False, profile_nodes=None, profile_interval: float = 0.0,
-                 modelled_body: str = "slave", trace: bool = False):
+                 modelled_body: str = "slave", trace: bool = False, picard_tol: float | None = None):
         self.name = name
         self.model = model
         self.modelled_body = modelled_body
         self.columns = SubgridInterface(n_nodes, material, other, thickness=thickness, n_cells=cells,
                                         grading=grading, model=model, mu0=mu0, f=f, taylor_quinney=taylor_quinney,
-                                        T0=T0, viscoplastic=COUPLED_VISCOPLASTIC if model == "viscoplastic" else None)
+                                        T0=T0, viscoplastic={**COUPLED_VISCOPLASTIC, "picard_tol": picard_tol}
+                                        if model == "viscoplastic" else None)
         self.bilateral = bool(bilateral)
         n = n_nodes
         for key in ("sigma_n", "v_free", "v_prev", "m_slave", "m_guide", "cap"):
@@ -252,4 +253,5 @@ def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = Fal
     return SubgridFriction(sl.name, n, fr.subgrid_model, material, other, mu0=float(fr.mu0), f=float(fr.f),
                            thickness=fr.thickness, cells=fr.cells, grading=fr.grading,
                            taylor_quinney=fr.taylor_quinney, T0=T0, bilateral=sl.contact == "bilateral",
-                           profile_nodes=nodes, profile_interval=interval, modelled_body=fr.body, trace=trace)
+                           profile_nodes=nodes, profile_interval=interval, modelled_body=fr.body, trace=trace,
+                           picard_tol=fr.picard_tol)

@@ -30,6 +30,8 @@ Every dimensional value is a string with its unit ("200 m/s", "10 GPa", "20 um")
                                         # this depth ("auto": 1.2 x the shear-wave reach c_s(p_max, T0) x duration,
                                         # so that nothing reaches the far end; "none": the column stops at thickness)
     depth_ratio = 1.05                  # ratio of successive cells in that continuation
+    picard_tol = "1e-6 K"               # a step's Picard sweeps stop when no node's temperature moves by more
+                                        # (looser: fewer sweeps, faster; docs/theory/viscoplastic.md, "Speed")
 
     [[loading]]                         # one table per column (several: several columns)
     name = "ball"                       # optional; names the extra output files
@@ -49,8 +51,8 @@ from typing import Annotated, Literal, Optional, Union
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from shockfriction.deck.base import DeckModel, known_material
-from shockfriction.units import (Dimensionless, HeatFlux, NonNegativeTime, PositiveLength, PositiveTemperature,
-                                 PositiveTime, Pressure, Velocity, Viscosity)
+from shockfriction.units import (Dimensionless, HeatFlux, NonNegativeTime, PicardTolerance, PositiveLength,
+                                 PositiveTemperature, PositiveTime, Pressure, Velocity, Viscosity)
 
 
 class ColumnDeck(DeckModel):
@@ -78,10 +80,12 @@ class ViscoplasticDeck(DeckModel):
     depth: Union[Literal["auto", "none"], PositiveLength] = Field(
         default="auto", description="depth of the graded continuation of the column ('auto', 'none' or a length)")
     depth_ratio: float = Field(default=1.05, gt=1.0, le=1.5, description="ratio of successive continuation cells")
+    picard_tol: Optional[PicardTolerance] = Field(
+        default=None, description="Picard tolerance in kelvin, e.g. '1e-3 K' (omitted: 1e-6 K)")
 
     def options(self) -> dict:
         return {"eta_vp": self.eta_vp, "inertia": self.inertia, "tresca": self.tresca, "depth": self.depth,
-                "depth_ratio": self.depth_ratio}
+                "depth_ratio": self.depth_ratio, "picard_tol": self.picard_tol}
 
 
 class LoadingDeck(DeckModel):

@@ -85,7 +85,7 @@ from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
 #: the keys of ``viscoplastic=`` (ViscoplasticColumns keywords; see _init_viscoplastic)
-VISCOPLASTIC_OPTIONS = ("eta_vp", "inertia", "tresca", "depth", "depth_ratio", "far_end")
+VISCOPLASTIC_OPTIONS = ("eta_vp", "inertia", "tresca", "depth", "depth_ratio", "far_end", "picard_tol")
 #: per-node diagnostics of every model, arrays (n_columns,) (see the module docstring)
 NODE_DIAGNOSTICS = ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau", "friction_work",
                     "heat_interface", "heat_plastic", "plastic_work", "lag_temperature", "melt_energy", "tau_coulomb",
@@ -160,7 +160,7 @@ class SubgridInterface:
         self._k, self._tau_cap, self._F_N = np.zeros(n), np.zeros(n), np.zeros(n)
 
     def _init_viscoplastic(self, n, thickness, n_cells, grading, mu0, f, beta_Q, T0, opts):
-        from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns
+        from shockfriction.friction.subgrid.viscoplastic import PICARD_TOL, ViscoplasticColumns
         unknown = set(opts) - set(VISCOPLASTIC_OPTIONS)
         if unknown:
             raise ValueError(f"unknown viscoplastic options {sorted(unknown)}: expected {', '.join(VISCOPLASTIC_OPTIONS)}")
@@ -171,7 +171,8 @@ class SubgridInterface:
                                       taylor_quinney=beta_Q, eta_vp=opts.get("eta_vp"),
                                       inertia=bool(opts.get("inertia", True)), T0=T0, depth=opts.get("depth"),
                                       depth_ratio=opts.get("depth_ratio", 1.05),
-                                      far_end=opts.get("far_end", "impedance"))
+                                      far_end=opts.get("far_end", "impedance"),
+                                      picard_tol=opts.get("picard_tol") or PICARD_TOL)
         self.columns = self.vp
         for name in NODE_DIAGNOSTICS:
             setattr(self, name, np.zeros(n))

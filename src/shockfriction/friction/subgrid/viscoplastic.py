@@ -56,6 +56,8 @@ KINK = 1e-15
 #: max|de1 - de2| <= SMOOTH max|de1|, else the last one (linear): a period-2 melt-front history extrapolates badly
 SMOOTH = 0.2
 OK, NO_CONVERGENCE, BAD_INPUT = 0, 2, 3
+#: default Picard tolerance (K): a step's sweeps stop when no node's temperature (sensible enthalpy / rho c) moves more
+PICARD_TOL = 1e-6
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
  P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL) = range(17)
@@ -762,7 +764,7 @@ class ViscoplasticColumns:
                  far_temperature: float | None = None, latent_heat: float | None = None,
                  liquid_viscosity: float | None = None, liquid_activation: float | None = None,
                  far_end: str = "impedance", mech_tol: float = 1e-13, heat_tol: float = 1e-11,
-                 picard_tol: float = 1e-6, max_picard: int = 100):
+                 picard_tol: float = PICARD_TOL, max_picard: int = 100):
         from shockfriction.friction.subgrid.column import control_weights, extend_grid, make_grid
         from shockfriction.materials.library import get_material
         m = get_material(material) if isinstance(material, str) else material
