@@ -58,6 +58,8 @@ def register(app: typer.Typer) -> None:
             its = res.iterations[:, j]
             limit = int(np.count_nonzero(its < 0))
             limit_txt = f" ({limit} steps at the Picard sweep limit, kept: energy exact)" if limit else ""
+            if res.substeps is not None and (res.substeps[:, j] > 1).any():
+                limit_txt += f" ({int(np.count_nonzero(res.substeps[:, j] > 1))} steps split into sub-steps)"
             con.print(f"{name}: t = {res.t[-1] * 1e6:.4g} us, interface {res.theta_interface[-1, j]:.6g} K"
                       f"{tau_txt}, max iterations {int(np.abs(its).max())}{limit_txt}", highlight=False)
         con.print(f"{res.t.size} steps x {k} column(s); wrote " + ", ".join(str(f) for f in files), highlight=False)

@@ -10,8 +10,11 @@ Outputs (written row by row and flushed, so that a run that fails leaves readabl
 
 * ``history.csv``: ``t_s,theta_interface_K,tau_Pa,slip_macro_mps,slip_local_mps,flux_Wm2,iterations``
   at the end of every step; ``flux_Wm2`` is the flux entering the column (beta_T tau [v]);
-  tau and the slips are ``nan`` in the pure thermal mode; ``iterations`` < 0 (viscoplastic model): the step
-  reached the Picard sweep limit and was kept (its energy balance is exact);
+  tau and the slips are ``nan`` in the pure thermal mode.  The viscoplastic model adds ``film_thickness_m``
+  and ``substeps``: a step whose Picard iteration does not converge is redone as 2, 4, ... sub-steps
+  (``substeps`` > 1; tau, slips and flux are then the step's means, ``iterations`` the sweeps of all
+  sub-steps); ``iterations`` < 0: a sub-step of dt/16 still reached the Picard sweep limit and was kept
+  (its energy balance is exact);
 * ``profiles.csv``: ``t_s,z_m,theta_K,eps_p`` in long form at the output times (and t = 0).
 
 With several loadings (columns) the first writes these names and loading ``k`` writes
@@ -77,6 +80,7 @@ class RunResult:
     files: list[Path] = field(default_factory=list)
     melting_temperature: float = math.nan
     film: Optional[np.ndarray] = None     # (n_steps, n_columns) molten film thickness (viscoplastic model)
+    substeps: Optional[np.ndarray] = None  # (n_steps, n_columns) sub-steps of each step (viscoplastic; > 1: split)
 
 
 def _names(deck) -> list[str]:
@@ -125,11 +129,13 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
     hist = [p.open("w", newline="") for p in hist_files]
     prof = [p.open("w", newline="") for p in prof_files]
     try:
-        film = (not thermal) and deck.model == "viscoplastic"  # extra column: molten film thickness (m)
+        # extra columns of the viscoplastic model: molten film thickness (m), sub-steps of the step
+        film = (not thermal) and deck.model == "viscoplastic"
         if film:
             res.film = np.zeros((nsteps, n))
+            res.substeps = np.ones((nsteps, n), dtype=np.int64)
         for fh in hist:
-            fh.write(HISTORY_HEADER + (",film_thickness_m" if film else "") + "\n")
+            fh.write(HISTORY_HEADER + (",film_thickness_m,substeps" if film else "") + "\n")
         for fh in prof:
             fh.write(PROFILE_HEADER + "\n")
         eps0 = np.zeros((n, z.size))
@@ -161,9 +167,11 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
             res.iterations[i] = iters
             if film:
                 res.film[i] = sg.film_thickness
+                res.substeps[i] = sg.vp.substeps
             for k, fh in enumerate(hist):
                 fh.write(f"{ends[i]:.9e},{theta_s[k]:.9e},{tau[k]:.9e},{slip_m[k]:.9e},{slip_l[k]:.9e},"
-                         f"{q_in[k]:.9e},{int(iters[k])}" + (f",{sg.film_thickness[k]:.9e}" if film else "") + "\n")
+                         f"{q_in[k]:.9e},{int(iters[k])}"
+                         + (f",{sg.film_thickness[k]:.9e},{int(sg.vp.substeps[k])}" if film else "") + "\n")
             if (i + 1) % FLUSH_EVERY == 0:
                 for fh in hist:
                     fh.flush()

@@ -56,6 +56,9 @@ KINK = 1e-15
 #: max|de1 - de2| <= SMOOTH max|de1|, else the last one (linear): a period-2 melt-front history extrapolates badly
 SMOOTH = 0.2
 OK, NO_CONVERGENCE, BAD_INPUT = 0, 2, 3
+#: a step of an imposed-slip column (k = 0) whose Picard iteration does not converge is redone as two half steps,
+#: recursively down to dt/2**MAX_SPLIT; a sub-step still unconverged there is kept (energy exact) and flagged
+MAX_SPLIT = 4
 #: default Picard tolerance (K): a step's sweeps stop when no node's temperature (sensible enthalpy / rho c) moves more
 PICARD_TOL = 1e-6
 # parameter vector of the kernel (besides the SCG array)
@@ -162,7 +165,7 @@ def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta,
 
 @njit(cache=True)
 def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work):
+                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry):
     """Advance every column by dt (state arrays updated in place; see the module docstring).
 
     State: v (nn, nc) velocity, ge (M, nc) elastic shear strain, Gs (M, nc) modulus of the stored stress
@@ -174,6 +177,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     (updated); the first Picard iterate is the extrapolation E = e + a1 de + a2 de2, pw = (a1, a2, a1 of the linear
     one) from predictor_weights (zeros: none), linear where the history is not smooth (see SMOOTH); it moves the
     answer within the Picard tolerance only.  work: scratch (N_WORK, nn + 1, nc), contents irrelevant.
+    retry (nc,) bool: a column whose Picard iteration does not converge is left as it was (state, energy, de, de2
+    unchanged; outputs of its last sweep; iters = -max_iter) for the caller to redo in sub-steps; without retry it
+    is committed (its energy balance is exact) with iters = -max_iter.
     """
     nn, nc = v.shape
     M = nn - 1
@@ -506,7 +512,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 de2[i, j] = 0.0
             continue
         if not fin[j]:
-            iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is still exact)
+            iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is still exact) ...
+            if retry[j]:
+                continue  # ... or left to the caller, which redoes it in sub-steps
         vh = v_half[j]
         energy[E_FRICTION, j] += ts[j] * 0.5 * (vh + v_prev[j]) * dt
         energy[E_INTERFACE, j] += q_in[j] * dt
@@ -753,8 +761,9 @@ class ViscoplasticColumns:
 
     Diagnostics after a step (n_columns,): ``tau``, ``theta_interface`` (K), ``slip_local`` (V - v(0)),
     ``slip_macro`` (|[V]^n|), ``flux_in`` (W/m^2), ``film_thickness`` (m, cells with no strength left),
-    ``iterations`` (Picard); profiles ``theta``, ``eps_p`` (n_columns, n_nodes / n_cells, copies), ``velocity``,
-    ``stress``; :meth:`energies` (J/m^2 per column) and :meth:`energy_residual`.
+    ``iterations`` (Picard sweeps; < 0: a step kept unconverged), ``substeps`` (> 1: an imposed-slip step
+    redone in sub-steps, :data:`MAX_SPLIT`); profiles ``theta``, ``eps_p`` (n_columns, n_nodes / n_cells,
+    copies), ``velocity``, ``stress``; :meth:`energies` (J/m^2 per column) and :meth:`energy_residual`.
     """
 
     def __init__(self, n_columns: int, material, *, beta_T: float, thickness: float = 20e-6, n_cells: int = 500,
@@ -822,6 +831,7 @@ class ViscoplasticColumns:
             setattr(self, name, np.zeros(nc))
         self.iterations = np.zeros(nc, dtype=np.int64)
         self.status = np.zeros(nc, dtype=np.int64)
+        self.substeps = np.ones(nc, dtype=np.int64)  # sub-steps of the last step (> 1: split, see MAX_SPLIT)
         self._de = np.zeros((nn, nc))  # enthalpy changes of the last two steps (the Picard predictor)
         self._de2 = np.zeros((nn, nc))
         self._dt_prev = np.zeros(2)  # their time steps (0: none); the three are checkpointed with the state
@@ -844,16 +854,66 @@ class ViscoplasticColumns:
     def step(self, sigma_n, v_free, slip_prev, k, tau_cap, dt: float):
         """Advance all columns by dt; return (tau, v_half) (see the class docstring)."""
         nc = self.n_columns
-        pw = predictor_weights(float(dt), self._dt_prev[0], self._dt_prev[1])
-        self._dt_prev[:] = float(dt), self._dt_prev[0]
         arr = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float), (nc,)))
                for a in (sigma_n, v_free, slip_prev, k, tau_cap)]
-        viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
-                          *arr, self.scg, self.par, float(dt), self.max_picard, self.tau, self._v_half,
-                          self.slip_local, self.flux_in, self.film_thickness, self.iterations, self.status,
-                          self.energy, self._de, self._de2, pw, self._work)
+        self._advance(*arr, float(dt), 0)
         self.slip_macro[:] = np.abs(0.5 * (self._v_half + arr[2]))
         return self.tau.copy(), self._v_half.copy()
+
+    def _advance(self, F_N, v_free, v_prev, k, tau_cap, dt: float, level: int) -> None:
+        """One step of dt (per-column input arrays); a column with imposed slip (k = 0) whose Picard iteration
+        does not converge is redone as two steps of dt/2 (:meth:`_split`), down to dt/2**MAX_SPLIT."""
+        h1, h2 = self._dt_prev
+        pw = predictor_weights(dt, h1, h2)
+        self._dt_prev[:] = dt, h1
+        retry = (k == 0.0) & (level < MAX_SPLIT)
+        viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
+                          F_N, v_free, v_prev, k, tau_cap, self.scg, self.par, dt, self.max_picard, self.tau,
+                          self._v_half, self.slip_local, self.flux_in, self.film_thickness, self.iterations,
+                          self.status, self.energy, self._de, self._de2, pw, self._work, retry)
+        self.substeps[:] = 1
+        redo = np.flatnonzero(retry & (self.iterations < 0) & (self.status == OK))
+        if redo.size:
+            self._split(redo, F_N, v_free, v_prev, k, tau_cap, dt, level, (h1, h2))
+
+    def _split(self, cols, F_N, v_free, v_prev, k, tau_cap, dt, level, dt_prev) -> None:
+        """Redo the step of columns ``cols`` (left unchanged by the kernel) as two steps of dt/2 on a copy of them;
+        tau, slip_local and flux_in become the means over the step, iterations the sweeps of all sub-steps
+        (negative if one of them still did not converge), substeps their number."""
+        sub = object.__new__(ViscoplasticColumns)
+        sub.__dict__.update(self.__dict__)  # the grid and the parameters; the arrays below are the columns' own
+        for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "_de", "_de2"):
+            setattr(sub, name, np.ascontiguousarray(getattr(self, name)[:, cols]))
+        n = cols.size
+        for name in ("tau", "slip_local", "slip_macro", "flux_in", "film_thickness", "_v_half"):
+            setattr(sub, name, np.zeros(n))
+        sub.iterations, sub.status, sub.substeps = (np.zeros(n, np.int64) for _ in range(3))
+        sub._dt_prev = np.array(dt_prev, float)
+        sub._work = np.empty((N_WORK, self.z.size + 1, n))
+        e_start, de_prev = sub.e.copy(), sub._de.copy()
+        args = [np.ascontiguousarray(a[cols]) for a in (F_N, v_free, v_prev, k, tau_cap)]
+        tau, slip, flux = np.zeros(n), np.zeros(n), np.zeros(n)
+        sweeps, steps = np.zeros(n, np.int64), np.zeros(n, np.int64)
+        failed = np.zeros(n, bool)
+        for _ in range(2):
+            sub._advance(*args, 0.5 * dt, level + 1)
+            tau += 0.5 * sub.tau
+            slip += 0.5 * sub.slip_local
+            flux += 0.5 * sub.flux_in
+            sweeps += np.abs(sub.iterations)
+            failed |= sub.iterations < 0
+            steps += sub.substeps
+            args[2] = sub._v_half.copy()  # the next sub-step's [V]^{n-1/2}
+        for name in ("v", "ge", "Gs", "eps", "e", "T", "energy"):
+            getattr(self, name)[:, cols] = getattr(sub, name)
+        self._de[:, cols] = sub.e - e_start  # the predictor's history: the change over the whole step dt
+        self._de2[:, cols] = de_prev
+        self.tau[cols], self.slip_local[cols], self.flux_in[cols] = tau, slip, flux
+        self._v_half[cols] = sub._v_half
+        self.film_thickness[cols] = sub.film_thickness
+        self.status[cols] = sub.status
+        self.iterations[cols] = np.where(failed, -sweeps, sweeps)
+        self.substeps[cols] = steps
 
     # ------------------------------------------------------------------ diagnostics
     @property
