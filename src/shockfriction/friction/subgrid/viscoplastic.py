@@ -895,6 +895,7 @@ class ViscoplasticColumns:
         tau, slip, flux = np.zeros(n), np.zeros(n), np.zeros(n)
         sweeps, steps = np.zeros(n, np.int64), np.zeros(n, np.int64)
         failed = np.zeros(n, bool)
+        status = np.zeros(n, np.int64)
         for _ in range(2):
             sub._advance(*args, 0.5 * dt, level + 1)
             tau += 0.5 * sub.tau
@@ -902,6 +903,7 @@ class ViscoplasticColumns:
             flux += 0.5 * sub.flux_in
             sweeps += np.abs(sub.iterations)
             failed |= sub.iterations < 0
+            status = np.maximum(status, sub.status)  # a failed sub-step fails the step
             steps += sub.substeps
             args[2] = sub._v_half.copy()  # the next sub-step's [V]^{n-1/2}
         for name in ("v", "ge", "Gs", "eps", "e", "T", "energy"):
@@ -911,7 +913,7 @@ class ViscoplasticColumns:
         self.tau[cols], self.slip_local[cols], self.flux_in[cols] = tau, slip, flux
         self._v_half[cols] = sub._v_half
         self.film_thickness[cols] = sub.film_thickness
-        self.status[cols] = sub.status
+        self.status[cols] = status
         self.iterations[cols] = np.where(failed, -sweeps, sweeps)
         self.substeps[cols] = steps
 
