@@ -129,10 +129,10 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
     for c in prange(conn.shape[0]):
         if want_ie:
             ie += cmass[c] * (e[c] + e_el[c])
-        n0 = conn[c, 0]
-        n1 = conn[c, 1]
-        n2 = conn[c, 2]
-        n3 = conn[c, 3]
+        n0 = np.uint64(conn[c, 0])
+        n1 = np.uint64(conn[c, 1])
+        n2 = np.uint64(conn[c, 2])
+        n3 = np.uint64(conn[c, 3])
         x0 = x[n0]
         x1 = x[n1]
         x2 = x[n2]
@@ -169,10 +169,15 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
         a_xx = s_xx - ptot
         a_yy = s_yy - ptot
         a_tt = -(s_xx + s_yy) - ptot
-        f0 = -(a_xx * bx0 + a_xy * by0 + a_tt * h0)
-        f1 = -(a_xx * bx1 + a_xy * by1 + a_tt * h1)
-        f2 = -(a_xx * bx2 + a_xy * by2 + a_tt * h2)
-        f3 = -(a_xx * bx3 + a_xy * by3 + a_tt * h3)
+        f0 = -(a_xx * bx0 + a_xy * by0)
+        f1 = -(a_xx * bx1 + a_xy * by1)
+        f2 = -(a_xx * bx2 + a_xy * by2)
+        f3 = -(a_xx * bx3 + a_xy * by3)
+        if axi:  # the hoop stress on h_i (0 in plane strain): -(a + b + c) = -(a + b) - c exactly
+            f0 -= a_tt * h0
+            f1 -= a_tt * h1
+            f2 -= a_tt * h2
+            f3 -= a_tt * h3
         g0 = -(a_xy * bx0 + a_yy * by0)
         g1 = -(a_xy * bx1 + a_yy * by1)
         g2 = -(a_xy * bx2 + a_yy * by2)
@@ -305,7 +310,7 @@ def viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c):
     """-dt/2 sum_i f_i . (v_i^{n-1/2} + v_i^{n+1/2}) of cell c's viscous corner forces f_i."""
     w = 0.0
     for k in range(4):
-        n = conn[c, k]
+        n = np.uint64(conn[c, k])
         w += vcorner[c, k] * (vx0[n] + vx1[n]) + vcorner[c, 4 + k] * (vy0[n] + vy1[n])
     return -0.5 * dt * w
 
@@ -521,10 +526,10 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         im = 1.0 / cm
         # the viscous heat (loads only: the node values stay in registers for the strain rate below)
         hc = viscous_cell_heat(conn, vcorner, vx_old, vy_old, vx, vy, dtv, c) if heat_now else 0.0
-        n0 = conn[c, 0]
-        n1 = conn[c, 1]
-        n2 = conn[c, 2]
-        n3 = conn[c, 3]
+        n0 = np.uint64(conn[c, 0])
+        n1 = np.uint64(conn[c, 1])
+        n2 = np.uint64(conn[c, 2])
+        n3 = np.uint64(conn[c, 3])
         # ---- geometry at n+1
         xa0 = x1a[n0]
         xa1 = x1a[n1]
@@ -580,7 +585,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         inv = 1.0 / vh
         dxx = (bx0 * u0 + bx1 * u1 + bx2 * u2 + bx3 * u3) * inv
         dyy = (by0 * w0 + by1 * w1 + by2 * w2 + by3 * w3) * inv
-        dtt = (h0 * u0 + h1 * u1 + h2 * u2 + h3 * u3) * inv
+        dtt = (h0 * u0 + h1 * u1 + h2 * u2 + h3 * u3) * inv if axi else 0.0
         uy = (by0 * u0 + by1 * u1 + by2 * u2 + by3 * u3) * inv
         vxg = (bx0 * w0 + bx1 * w1 + bx2 * w2 + bx3 * w3) * inv
         dxy = 0.5 * (uy + vxg)
@@ -643,7 +648,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         return 0.0, bad, errcell[bad], qv
     # second loop: deviatoric stress (rotation, predictor, radial return), e~ = e + plastic heat
     for c in prange(nc):
-        m = mat[c]
+        m = np.uint64(mat[c])
         dxx = work[4, c]
         dyy = work[5, c]
         dtt = work[6, c]
@@ -699,7 +704,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
             yld[c] = hnew  # (SCG) times G(P, T)/G0 in the last loop
     # third loop: energy and pressure, spall, temperature, bulk sound speed
     for c in prange(nc):
-        m = mat[c]
+        m = np.uint64(mat[c])
         ekind = props[m, P_EOS]
         rho0 = props[m, P_RHO0]
         c0 = props[m, P_C0]
@@ -773,7 +778,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         return 0.0, bad, errcell[bad], qv
     # last loop: moduli, flow stress, sound speed at n+1 and the stable time step of the cell
     for c in prange(nc):
-        m = mat[c]
+        m = np.uint64(mat[c])
         skind = props[m, P_STRENGTH]
         sg0 = props[m, P_G0]
         c2 = cs[c]
