@@ -259,7 +259,7 @@ class Simulation:
             q_before = en.interface_heat
             # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
             K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
-                                 self._vy_pre)
+                                 self._vy_pre, True)
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
             # 4 interfaces
             int_prev = self._int_active

@@ -420,9 +420,9 @@ def sync_groups(vx, vy, vx_ref, vy_ref, grp_ptr, grp_nodes):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre):
-    """v* = v + dt F/m (m: the group mass of the node); v is kept in (vx_old, vy_old) and v* in
-    (vx_pre, vy_pre) (the velocities before the constraints)."""
+def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre):
+    """v* = v + dt F/m (m: the group mass of the node); v is kept in (vx_old, vy_old) and, with
+    ``keep_pre``, v* in (vx_pre, vy_pre) (the velocities before the constraints)."""
     for n in range(vx.shape[0]):
         u = vx[n]
         w = vy[n]
@@ -433,8 +433,9 @@ def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre)
         w += a * fy[n]
         vx[n] = u
         vy[n] = w
-        vx_pre[n] = u
-        vy_pre[n] = w
+        if keep_pre:
+            vx_pre[n] = u
+            vy_pre[n] = w
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -831,7 +832,12 @@ def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
                             svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
     if grp_ptr.shape[0] > 1:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
-    advance_velocities(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre)
+    # v* is needed only where the constraints act (their jumps v - v*): kept on bc_nodes alone
+    advance_velocities(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, False)
+    for k in range(bc_nodes.shape[0]):
+        n = bc_nodes[k]
+        vx_pre[n] = vx[n]
+        vy_pre[n] = vy[n]
     apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, dtv)
     wbc = 0.0
     if cnode.shape[0]:
