@@ -119,7 +119,8 @@ class Simulation:
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
         # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps)
-        self._scratch = (np.empty((10, nc)),)
+        # and the per-material reciprocals that the update computes first
+        self._scratch = (np.empty((11, nc)), np.empty((s.props.shape[0], K.N_MREC)))
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
             threading_policy.use_threads(self.threads)
@@ -258,7 +259,7 @@ class Simulation:
             q_before = en.interface_heat
             # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
             K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
-                                 self._vy_pre)
+                                 self._vy_pre, True)
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
             # 4 interfaces
             int_prev = self._int_active
@@ -328,7 +329,7 @@ class Simulation:
             *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre, self._vy_pre, s.mass_own,
             *self._cons, self._bc_nodes, self._jx_bc_prev, self._jy_bc_prev, dt, self._x_old, self._y_old, s.mat,
             s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl,
-            self.dvmax, s.damage, self._scratch[0])
+            self.dvmax, s.damage, *self._scratch)
         en = s.energy
         if self._cons[0].shape[0]:
             en.boundary_work += wbc
@@ -372,7 +373,7 @@ class Simulation:
             s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
             s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
             self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
-            self._vx_old, self._vy_old, s.dt_velocity, self._scratch[0])
+            self._vx_old, self._vy_old, s.dt_velocity, *self._scratch)
         self._end_step(dt, dtn, bad, code, qv)
 
     def _end_step(self, dt: float, dtn: float, bad: int, code: int, qv: float) -> None:

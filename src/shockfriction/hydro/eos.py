@@ -33,23 +33,38 @@ from shockfriction.hydro.matprops import (
 def eos_ab_s(rho, kind, rho0, c0, s, g0, gamma):
     """(A, B, dA/drho) of P = A + B e from scalar parameters (kind: 0 Mie-Grueneisen, 1 ideal gas,
     2 Mie-Grueneisen with the cubic tension branch)."""
+    return eos_ab_r(rho, 1.0 / rho, rho0 / rho, rho / rho0, kind, rho0, c0, s, g0, gamma)
+
+
+@njit(cache=True, inline="always")
+def eos_ab_r(rho, irho, r0r, rr0, kind, rho0, c0, s, g0, gamma):
+    """:func:`eos_ab_s` from 1/rho, rho0/rho and rho/rho0 (the cell update has them as products with
+    reciprocals): eta = 1 - rho0/rho, mu = rho/rho0 - 1; one division, 1/(1 - s eta)."""
     if kind == EOS_IDEAL_GAS:
         return 0.0, (gamma - 1.0) * rho, 0.0
     k0 = rho0 * c0 * c0
-    eta = 1.0 - rho0 / rho
-    if eta <= 0.0:
-        if kind == EOS_MG_CUBIC:
-            a, da_dmu = tension_cubic(rho / rho0 - 1.0, k0, s, g0)
-            return a, g0 * rho0, da_dmu / rho0
-        return k0 * (rho / rho0 - 1.0), g0 * rho0, c0 * c0
+    eta = 1.0 - r0r
+    # both branches, then a select: near rho0 the sign of eta is round-off (an unpredictable branch)
     den = 1.0 - s * eta
     if den <= 1e-6:
         den = 1e-6
-    ph = k0 * eta / (den * den)
-    dph = k0 * (1.0 + s * eta) / (den * den * den)
+    iden = 1.0 / den
+    iden2 = iden * iden
+    ph = k0 * eta * iden2
+    dph = k0 * (1.0 + s * eta) * (iden2 * iden)
     a = ph * (1.0 - 0.5 * g0 * eta)
-    da_deta = dph * (1.0 - 0.5 * g0 * eta) - 0.5 * g0 * ph
-    return a, g0 * rho0, da_deta * rho0 / (rho * rho)
+    da = (dph * (1.0 - 0.5 * g0 * eta) - 0.5 * g0 * ph) * rho0 * (irho * irho)
+    mu = rr0 - 1.0
+    if kind == EOS_MG_CUBIC:
+        a_t, da_dmu = tension_cubic(mu, k0, s, g0)
+        da_t = da_dmu * (rr0 * irho)  # / rho0
+    else:
+        a_t = k0 * mu
+        da_t = c0 * c0
+    if eta <= 0.0:
+        a = a_t
+        da = da_t
+    return a, g0 * rho0, da
 
 
 @njit(cache=True)
@@ -70,15 +85,15 @@ def sound_speed2_s(rho, p, kind, rho0, c0, s, g0, gamma):
     constant; the ideal gas has B = (gamma - 1) rho, so e dB/drho = P/rho and c^2 = gamma P/rho.
     """
     a, b, da = eos_ab_s(rho, kind, rho0, c0, s, g0, gamma)
-    return sound_speed2_ab(rho, p, kind, c0, b, da)
+    return sound_speed2_ab(1.0 / rho, p, kind, c0, b, da)
 
 
 @njit(cache=True, inline="always")
-def sound_speed2_ab(rho, p, kind, c0, b, da):
-    """:func:`sound_speed2_s` from B and dA/drho of :func:`eos_ab_s` at ``rho`` (already known)."""
-    c2 = da + p * b / (rho * rho)
+def sound_speed2_ab(irho, p, kind, c0, b, da):
+    """:func:`sound_speed2_s` from B and dA/drho of :func:`eos_ab_s` at rho (already known), irho = 1/rho."""
+    c2 = da + p * b * (irho * irho)
     if kind == EOS_IDEAL_GAS:
-        c2 += p / rho
+        c2 += p * irho
     floor = 1e-12 if kind == EOS_IDEAL_GAS else 1e-6 * c0 * c0
     return c2 if c2 > floor else floor
 

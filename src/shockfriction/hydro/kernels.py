@@ -37,7 +37,7 @@ import types
 import numpy as np
 from numba import njit, prange
 
-from shockfriction.hydro.eos import eos_ab, eos_ab_s, sound_speed2, sound_speed2_ab, temperature
+from shockfriction.hydro.eos import eos_ab, eos_ab_r, sound_speed2, sound_speed2_ab, temperature
 from shockfriction.hydro.geometry import (
     axi_volume, bvec_axi, bvec_planar, bvectors, corner_weights, min_jacobian, quad_area,
 )
@@ -64,6 +64,13 @@ def _twin(func, suffix: str):
     twin.__doc__ = func.__doc__
     return twin
 
+
+# columns of the per-material reciprocals ``mrec`` of the cell update
+R_IG0 = 0
+R_IRHO0 = 1
+R_TSCALE = 2
+R_ICV = 3
+N_MREC = 4
 
 ERR_NONE = 0
 ERR_INVERTED = 1
@@ -122,10 +129,10 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
     for c in prange(conn.shape[0]):
         if want_ie:
             ie += cmass[c] * (e[c] + e_el[c])
-        n0 = conn[c, 0]
-        n1 = conn[c, 1]
-        n2 = conn[c, 2]
-        n3 = conn[c, 3]
+        n0 = np.uint64(conn[c, 0])
+        n1 = np.uint64(conn[c, 1])
+        n2 = np.uint64(conn[c, 2])
+        n3 = np.uint64(conn[c, 3])
         x0 = x[n0]
         x1 = x[n1]
         x2 = x[n2]
@@ -162,10 +169,15 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
         a_xx = s_xx - ptot
         a_yy = s_yy - ptot
         a_tt = -(s_xx + s_yy) - ptot
-        f0 = -(a_xx * bx0 + a_xy * by0 + a_tt * h0)
-        f1 = -(a_xx * bx1 + a_xy * by1 + a_tt * h1)
-        f2 = -(a_xx * bx2 + a_xy * by2 + a_tt * h2)
-        f3 = -(a_xx * bx3 + a_xy * by3 + a_tt * h3)
+        f0 = -(a_xx * bx0 + a_xy * by0)
+        f1 = -(a_xx * bx1 + a_xy * by1)
+        f2 = -(a_xx * bx2 + a_xy * by2)
+        f3 = -(a_xx * bx3 + a_xy * by3)
+        if axi:  # the hoop stress on h_i (0 in plane strain): -(a + b + c) = -(a + b) - c exactly
+            f0 -= a_tt * h0
+            f1 -= a_tt * h1
+            f2 -= a_tt * h2
+            f3 -= a_tt * h3
         g0 = -(a_xy * bx0 + a_yy * by0)
         g1 = -(a_xy * bx1 + a_yy * by1)
         g2 = -(a_xy * bx2 + a_yy * by2)
@@ -288,7 +300,7 @@ def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
     total = 0.0
     for c in prange(conn.shape[0]):
         heat = viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c)
-        e[c] += heat / cmass[c]
+        e[c] += heat * (1.0 / cmass[c])  # as the cell update: times 1/m
         total += heat
     return total
 
@@ -298,7 +310,7 @@ def viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c):
     """-dt/2 sum_i f_i . (v_i^{n-1/2} + v_i^{n+1/2}) of cell c's viscous corner forces f_i."""
     w = 0.0
     for k in range(4):
-        n = conn[c, k]
+        n = np.uint64(conn[c, k])
         w += vcorner[c, k] * (vx0[n] + vx1[n]) + vcorner[c, 4 + k] * (vy0[n] + vy1[n])
     return -0.5 * dt * w
 
@@ -408,20 +420,22 @@ def sync_groups(vx, vy, vx_ref, vy_ref, grp_ptr, grp_nodes):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre):
-    """v* = v + dt F/m (m: the group mass of the node); v is kept in (vx_old, vy_old) and v* in
-    (vx_pre, vy_pre) (the velocities before the constraints)."""
+def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre):
+    """v* = v + dt F/m (m: the group mass of the node); v is kept in (vx_old, vy_old) and, with
+    ``keep_pre``, v* in (vx_pre, vy_pre) (the velocities before the constraints)."""
     for n in range(vx.shape[0]):
         u = vx[n]
         w = vy[n]
         vx_old[n] = u
         vy_old[n] = w
-        u += dt * fx[n] / mass[n]
-        w += dt * fy[n] / mass[n]
+        a = dt / mass[n]
+        u += a * fx[n]
+        w += a * fy[n]
         vx[n] = u
         vy[n] = w
-        vx_pre[n] = u
-        vy_pre[n] = w
+        if keep_pre:
+            vx_pre[n] = u
+            vy_pre[n] = w
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -475,7 +489,7 @@ def internal_energy(e, e_el, cmass):
 
 def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
-                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work):
+                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
     """The cycle's cell pass (step 6): advance every cell from t^n to t^{n+1}.
 
     Per cell: volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation and radial
@@ -491,24 +505,32 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
     Four loops over the cells, each a short chain of dependent divisions and roots that the
     processor overlaps across cells (one loop would be one ~300-clock chain per cell): (1)
     geometry, strain rate and q, (2) deviator, (3) energy, EOS, spall, temperature, (4) moduli,
-    flow stress, sound speed, stable step.  ``work`` (10, cells) carries the values handed from
-    one loop to the next (tr D, dv/m, e~, q mid-step, D, spin, rho^{n+1/2}), stored exactly:
-    the results are those of one loop, bit for bit."""
+    flow stress, sound speed, stable step.  ``work`` (11, cells) carries the values handed from
+    one loop to the next (tr D, dv/m, e~, q mid-step, D, spin, 1/rho^{n+1/2}, 1/rho^{n+1}), stored
+    exactly.  Divisions are few (docs/theory/fused-cycle.md): 1/m, 1/V^{n+1/2} and rho^{n+1} = m/V^{n+1}
+    per cell, the rest are products with them and with the per-material reciprocals that the kernel
+    first puts in ``mrec`` (bodies, 4): 1/G0, 1/rho0, (table size - 1)/(mu_hi - mu_lo), 1/c_v."""
     ntab = table.shape[1]
     nc = conn.shape[0]
     dtmin = 1e300
     bad = nc
     qv = 0.0
+    for m in range(props.shape[0]):
+        g0m = props[m, P_G0]
+        mrec[m, R_IG0] = 1.0 / g0m if g0m != 0.0 else 0.0
+        mrec[m, R_IRHO0] = 1.0 / props[m, P_RHO0] if props[m, P_RHO0] != 0.0 else 0.0
+        span = props[m, P_MU_HI] - props[m, P_MU_LO]
+        mrec[m, R_TSCALE] = (ntab - 1) / span if span != 0.0 else 0.0
+        mrec[m, R_ICV] = 1.0 / props[m, P_CV]
     for c in prange(nc):
-        dtcell[c] = 1e300
-        if heat_now:
-            hc = viscous_cell_heat(conn, vcorner, vx_old, vy_old, vx, vy, dtv, c)
-            e[c] += hc / cmass[c]
-            qv += hc
-        n0 = conn[c, 0]
-        n1 = conn[c, 1]
-        n2 = conn[c, 2]
-        n3 = conn[c, 3]
+        cm = cmass[c]
+        im = 1.0 / cm
+        # the viscous heat (loads only: the node values stay in registers for the strain rate below)
+        hc = viscous_cell_heat(conn, vcorner, vx_old, vy_old, vx, vy, dtv, c) if heat_now else 0.0
+        n0 = np.uint64(conn[c, 0])
+        n1 = np.uint64(conn[c, 1])
+        n2 = np.uint64(conn[c, 2])
+        n3 = np.uint64(conn[c, 3])
         # ---- geometry at n+1
         xa0 = x1a[n0]
         xa1 = x1a[n1]
@@ -528,6 +550,10 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         else:
             v1 = area1
         if not (jmin > 0.0 and v1 > 0.0):
+            if heat_now:
+                e[c] += hc * im
+                qv += hc
+            dtcell[c] = 1e300
             if math.isnan(jmin) or math.isnan(v1):
                 errcell[c] = ERR_NAN
             else:
@@ -560,29 +586,30 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         inv = 1.0 / vh
         dxx = (bx0 * u0 + bx1 * u1 + bx2 * u2 + bx3 * u3) * inv
         dyy = (by0 * w0 + by1 * w1 + by2 * w2 + by3 * w3) * inv
-        dtt = (h0 * u0 + h1 * u1 + h2 * u2 + h3 * u3) * inv
+        dtt = (h0 * u0 + h1 * u1 + h2 * u2 + h3 * u3) * inv if axi else 0.0
         uy = (by0 * u0 + by1 * u1 + by2 * u2 + by3 * u3) * inv
         vxg = (bx0 * w0 + bx1 * w1 + bx2 * w2 + bx3 * w3) * inv
         dxy = 0.5 * (uy + vxg)
         spin = 0.5 * (uy - vxg)
         trd = dxx + dyy + dtt
         v0 = vol[c]
-        rho1 = cmass[c] / v1
-        rhoh = cmass[c] / vh
+        rho1 = cm / v1
+        rhoh = cm * inv
         work[4, c] = dxx
         work[5, c] = dyy
         work[6, c] = dtt
         work[7, c] = dxy
         work[8, c] = spin
-        work[9, c] = rhoh
+        work[9, c] = vh * im  # 1/rho^{n+1/2}
+        work[10, c] = v1 * im  # 1/rho^{n+1}
         # ---- artificial viscosity q^{n+1/2} (compression only), length along the compression
         qn = 0.0
         if trd < 0.0 and not qedge:
-            cm = 0.5 * (dxx + dyy)
+            cmid = 0.5 * (dxx + dyy)
             rr = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
-            lq = math.sqrt(area1)
-            if rr > 1e-12 * (abs(cm) + 1e-300):
-                lmax = cm + rr
+            lq = -1.0
+            if rr > 1e-12 * (abs(cmid) + 1e-300):
+                lmax = cmid + rr
                 ax = dxy
                 ay = lmax - dxx
                 bxv = lmax - dyy
@@ -593,38 +620,42 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 else:
                     tx = bxv
                     ty = byv
-                tn = 1.0 / math.sqrt(tx * tx + ty * ty)
-                tx *= tn
-                ty *= tn
+                # width across t (|t| times the width along the unnormalised t); lq = A / width
+                tn = math.sqrt(tx * tx + ty * ty)
                 p0_ = tx * xa0 + ty * ya0
                 p1_ = tx * xa1 + ty * ya1
                 p2_ = tx * xa2 + ty * ya2
                 p3_ = tx * xa3 + ty * ya3
                 width = max(max(p0_, p1_), max(p2_, p3_)) - min(min(p0_, p1_), min(p2_, p3_))
                 if width > 0.0:
-                    lq = area1 / width
+                    lq = area1 * tn / width
                     if lq > dmax:
                         lq = dmax
+            if lq < 0.0:
+                lq = math.sqrt(area1)
             qn = rhoh * (cq * cq * lq * lq * trd * trd - cl * cs[c] * lq * trd)
         # ---- kept for the next loops: dv, q^n (mid-step), tr D, CFL length
         vol[c] = v1
         rho[c] = rho1
-        work[1, c] = (v1 - v0) / cmass[c]
+        work[1, c] = (v1 - v0) * im
         work[3, c] = 0.5 * (q[c] + qn)
         q[c] = qn
         work[0, c] = trd
         dtcell[c] = area1 / dmax
+        if heat_now:
+            e[c] += hc * im
+            qv += hc
     if bad < nc:
         return 0.0, bad, errcell[bad], qv
     # second loop: deviatoric stress (rotation, predictor, radial return), e~ = e + plastic heat
     for c in prange(nc):
-        m = mat[c]
+        m = np.uint64(mat[c])
         dxx = work[4, c]
         dyy = work[5, c]
         dtt = work[6, c]
         dxy = work[7, c]
         spin = work[8, c]
-        rhoh = work[9, c]
+        irhoh = work[9, c]
         trd = work[0, c]
         skind = props[m, P_STRENGTH]
         sg0 = props[m, P_G0]
@@ -644,10 +675,10 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 ratio = 1.0
                 g = sg0
             else:
-                ratio = shear[c] / sg0
+                ratio = shear[c] * mrec[m, R_IG0]
                 g = sg0 if (gconst != 0.0 and ratio > 0.0) else shear[c]
             r_xx, r_yy, r_xy = rotate_deviator(sxx[c], syy[c], sxy[c], spin, dt)
-            dm = trd / 3.0
+            dm = trd * (1.0 / 3.0)
             t_xx = r_xx + 2.0 * g * dt * (dxx - dm)
             t_yy = r_yy + 2.0 * g * dt * (dyy - dm)
             t_xy = r_xy + 2.0 * g * dt * dxy
@@ -657,8 +688,8 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
             m_xx = 0.5 * (r_xx + n_xx)
             m_yy = 0.5 * (r_yy + n_yy)
             m_xy = 0.5 * (r_xy + n_xy)
-            wdev = (m_xx * dxx + m_yy * dyy - (m_xx + m_yy) * dtt + 2.0 * m_xy * dxy) * dt / rhoh
-            heat = yv * deps / rhoh
+            wdev = (m_xx * dxx + m_yy * dyy - (m_xx + m_yy) * dtt + 2.0 * m_xy * dxy) * dt * irhoh
+            heat = yv * deps * irhoh
             sxx[c] = n_xx
             syy[c] = n_yy
             sxy[c] = n_xy
@@ -674,7 +705,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
             yld[c] = hnew  # (SCG) times G(P, T)/G0 in the last loop
     # third loop: energy and pressure, spall, temperature, bulk sound speed
     for c in prange(nc):
-        m = mat[c]
+        m = np.uint64(mat[c])
         ekind = props[m, P_EOS]
         rho0 = props[m, P_RHO0]
         c0 = props[m, P_C0]
@@ -683,12 +714,15 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
         gam = props[m, P_GAMMA]
         failed = dmg[c] >= 1.0
         rho1 = rho[c]
+        irho1 = work[10, c]
+        irho0 = mrec[m, R_IRHO0]
         dv = work[1, c]
         et = work[2, c]
         qmid = work[3, c]
         # ---- energy and pressure (thesis eq. 3.18 with errata), q time-centred as the forces see it:
         # e1 = e~ - ((P^n + q^{n-1/2}) + (P^{n+1} + q^{n+1/2}))/2 dv
-        a, b, da = eos_ab_s(rho1, ekind, rho0, c0, s_, g0, gam)
+        mu1 = rho1 * irho0  # rho/rho0 (mu + 1)
+        a, b, da = eos_ab_r(rho1, irho1, rho0 * irho1, mu1, ekind, rho0, c0, s_, g0, gam)
         e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
         p1 = a + b * e1
         pfloor = props[m, P_PMIN]
@@ -724,13 +758,10 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
             bad = min(bad, c)
             continue
         # ---- temperature: T0 + (e - e_s(mu))/cv, or e/cv (ideal gas)
-        cv = props[m, P_CV]
         if ekind == EOS_IDEAL_GAS:
-            t1 = e1 / cv
+            t1 = e1 * mrec[m, R_ICV]
         else:
-            lo = props[m, P_MU_LO]
-            hi = props[m, P_MU_HI]
-            f = (rho1 / rho0 - 1.0 - lo) / (hi - lo) * (ntab - 1)
+            f = (mu1 - 1.0 - props[m, P_MU_LO]) * mrec[m, R_TSCALE]
             if f <= 0.0:
                 es = table[m, 0]
             elif f >= ntab - 1:
@@ -739,46 +770,44 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
                 k = int(f)
                 wt = f - k
                 es = (1.0 - wt) * table[m, k] + wt * table[m, k + 1]
-            t1 = props[m, P_T0] + (e1 - es) / cv
+            t1 = props[m, P_T0] + (e1 - es) * mrec[m, R_ICV]
         e[c] = e1
         p[c] = p1
         temp[c] = t1
-        cs[c] = sound_speed2_ab(rho1, p1, ekind, c0, b, da)  # bulk c^2, the last loop adds the shear part
+        cs[c] = sound_speed2_ab(irho1, p1, ekind, c0, b, da)  # bulk c^2, the last loop adds the shear part
     if bad < nc:
         return 0.0, bad, errcell[bad], qv
     # last loop: moduli, flow stress, sound speed at n+1 and the stable time step of the cell
     for c in prange(nc):
-        m = mat[c]
+        m = np.uint64(mat[c])
         skind = props[m, P_STRENGTH]
         sg0 = props[m, P_G0]
         c2 = cs[c]
-        rho1 = rho[c]
+        irho1 = work[10, c]
         if dmg[c] >= 1.0:  # failed
             shear[c] = 0.0
             yld[c] = 0.0
         elif skind == STRENGTH_EPP:
             shear[c] = sg0
             yld[c] = props[m, P_Y0]
-            c2 += 4.0 * sg0 / (3.0 * rho1)
+            c2 += (4.0 / 3.0) * sg0 * irho1
         elif skind != STRENGTH_NONE:
             ratio1 = scg_shear_ratio(p[c], temp[c], props[m, P_SCG + I_G], props[m, P_SCG + I_H],
                                      props[m, P_SCG + I_XI], props[m, P_SCG + I_TF])
             shear[c] = sg0 * ratio1
             yld[c] = yld[c] * ratio1
             gpred = sg0 if (props[m, P_G_CONST] != 0.0 and ratio1 > 0.0) else sg0 * ratio1
-            c2 += 4.0 * gpred / (3.0 * rho1)
+            c2 += (4.0 / 3.0) * gpred * irho1
         c1 = math.sqrt(c2)
         cs[c] = c1
         lcfl = dtcell[c]
         trd = work[0, c]
-        aq = 0.0
-        if trd < 0.0:
-            aq = cq * cq * lcfl * (-trd) + cl * c1
+        # aq = 0 in expansion (no branch: the sign of a resting cell's tr D is round-off)
+        aq = cq * cq * lcfl * max(-trd, 0.0) + (cl * c1 if trd < 0.0 else 0.0)
         dtc = cfl * lcfl / (aq + math.sqrt(aq * aq + c2))
-        if trd != 0.0:
-            dvl = dvmax / abs(trd)
-            if dvl < dtc:
-                dtc = dvl
+        atr = abs(trd)
+        if dvmax < dtc * atr:  # the volume-change cap dvmax/|tr D| is the smaller
+            dtc = dvmax / atr
         dtcell[c] = dtc
         dtmin = min(dtmin, dtc)
     return dtmin, -1, ERR_NONE, qv
@@ -803,7 +832,12 @@ def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
                             svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
     if grp_ptr.shape[0] > 1:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
-    advance_velocities(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre)
+    # v* is needed only where the constraints act (their jumps v - v*): kept on bc_nodes alone
+    advance_velocities(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, False)
+    for k in range(bc_nodes.shape[0]):
+        n = bc_nodes[k]
+        vx_pre[n] = vx[n]
+        vy_pre[n] = vy[n]
     apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, dtv)
     wbc = 0.0
     if cnode.shape[0]:
@@ -818,20 +852,20 @@ def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
 @njit(cache=True, **NO_REFCOUNT)
 def advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                    sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
-                   heat_now, vcorner, vx_old, vy_old, dtv, work):
+                   heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
     """Steps 5-6 in one call: :func:`move_nodes` (x^n kept in x_old, y_old), then
     :func:`update_cells_serial` (same arguments and result)."""
     move_nodes(x, y, vx, vy, dt, x_old, y_old)
     return update_cells_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                                sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
-                               errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work)
+                               errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                  scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
                  vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev, jy_prev, dt,
-                 x_old, y_old, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work):
+                 x_old, y_old, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work, mrec):
     """One whole serial cycle without interfaces, the viscous heat in the cell update (no history row
     with probes or observers this cycle): :func:`velocities_serial` then :func:`advance_serial`, one
     call instead of seven.  Returns (internal energy at t^n (``record``), boundary work, leapfrog
@@ -842,7 +876,8 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
                                     cnx, cny, cval, bc_nodes, jx_prev, jy_prev)
     dtn, bad, code, qv = advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el,
                                         p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
-                                        dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old, dtv, work)
+                                        dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old, dtv, work,
+                                        mrec)
     return ie, wbc, ke, dtn, bad, code, qv
 
 

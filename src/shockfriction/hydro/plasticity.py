@@ -90,10 +90,11 @@ def radial_return_s(sxx, syy, sxy, eps_p, G, ratio, kind, y_epp, y0, beta, n, ym
     per cell), or a negative number to compute it here.
     """
     szz = -(sxx + syy)
-    seq = math.sqrt(1.5 * (sxx * sxx + syy * syy + szz * szz + 2.0 * sxy * sxy))
+    seq2 = 1.5 * (sxx * sxx + syy * syy + szz * szz + 2.0 * sxy * sxy)  # S*_eq^2 (the root only past yield)
     if kind == STRENGTH_EPP:
-        if seq <= y_epp:
+        if seq2 <= y_epp * y_epp:
             return sxx, syy, sxy, 0.0, y_epp, y_epp
+        seq = math.sqrt(seq2)
         f = y_epp / seq
         return sxx * f, syy * f, sxy * f, (seq - y_epp) / (3.0 * G), y_epp, y_epp
     if ratio <= 0.0 or G <= 0.0:
@@ -104,8 +105,9 @@ def radial_return_s(sxx, syy, sxy, eps_p, G, ratio, kind, y_epp, y0, beta, n, ym
     else:
         h0, _ = hardening(eps_p, y0, beta, n, ymax)
         y = h0 * ratio
-    if seq <= y:
+    if seq2 <= y * y:
         return sxx, syy, sxy, 0.0, y, y / ratio
+    seq = math.sqrt(seq2)
     # f(d) = seq - 3 G d - ratio*h(eps+d), decreasing; root in [0, (seq - y)/(3G)]
     hi = (seq - y) / (3.0 * G)
     # start from the root of the linearised equation: the hardening is concave, so f(d0) >= 0

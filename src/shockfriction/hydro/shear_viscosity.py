@@ -50,8 +50,8 @@ def shear_viscosity_forces(g, r, s_xx, s_yy, s_xy, yld, elastic_only, cl, cq, ar
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if elastic_only:
         s_tt = -(s_xx + s_yy)
-        j2 = math.sqrt(1.5 * (s_xx * s_xx + s_yy * s_yy + s_tt * s_tt + 2.0 * s_xy * s_xy))
-        if j2 >= 0.99 * yld:
+        y99 = 0.99 * yld
+        if y99 <= 0.0 or 1.5 * (s_xx * s_xx + s_yy * s_yy + s_tt * s_tt + 2.0 * s_xy * s_xy) >= y99 * y99:
             return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if not (vol > 0.0 and area > 0.0):
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -70,14 +70,14 @@ def shear_viscosity_forces(g, r, s_xx, s_yy, s_xy, yld, elastic_only, cl, cq, ar
     phi = 1.0 - trd * trd / grad2
     if phi <= 0.0:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    dm = trd / 3.0
+    dm = trd * (1.0 / 3.0)
     exx = dxx - dm
     eyy = dyy - dm
     ett = dtt - dm
     rate = math.sqrt(2.0 * (exx * exx + eyy * eyy + ett * ett + 2.0 * dxy * dxy))
     if rate == 0.0:
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    eta = phi * r * lq * (cl * math.sqrt(g / r) + cq * cq * lq * rate)
+    eta = phi * lq * (cl * math.sqrt(g * r) + cq * cq * lq * rate * r)  # phi rho l (C_L sqrt(G/rho) + ...)
     qxx = 2.0 * eta * exx
     qyy = 2.0 * eta * eyy
     qtt = 2.0 * eta * ett
