@@ -56,6 +56,13 @@ from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, 
 # n_nodes such increments, their integral / dt and the kinematic scaling all stay finite
 LOG_TARGET_MAX = 300.0
 TARGET_MAX = math.exp(LOG_TARGET_MAX)
+# Lazy hardening (plastic_increments): a stale node flows for sure when x^(1/n) > (1 + beta eps)(1 + LAZY_MARGIN).
+# With pow and 1/n within one ulp, that gives ln x - ln H >= n ln(1 + LAZY_MARGIN) - 1e-13 n - 2.3e-16 > 0 for
+# n >= LAZY_N_MIN (ln H <= 710); below it (or beta < 0) H is computed at every update, as before.
+LAZY_MARGIN = 1e-9
+LAZY_N_MIN = 1e-6
+# a stale entry holds -H_old (1 - STALE_SHRINK): below every later H (eps only grows, pow is within an ulp)
+STALE_SHRINK = 2.0 ** -50
 
 
 @njit(cache=True, inline="always")
@@ -65,15 +72,29 @@ def visited(q, depth, q_hi, nn):
 
 
 @njit(cache=True, inline="always")
+def lazy_hardening(p):
+    """Whether ``hard`` may hold stale entries (see :func:`plastic_increments`): beta >= 0 and n >= LAZY_N_MIN."""
+    n = p[I_N]
+    return p[I_BETA] >= 0.0 and LAZY_N_MIN <= n < math.inf
+
+
+@njit(cache=True, inline="always")
 def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out,
                        depth=-1, q_hi=math.inf):
     """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit;
     return the trapezoid integral sum_i w_i d_eps_i, or -1 if some node has no strength left (G = 0).
 
-    ``hard`` = (1 + beta eps_prev)^n: a node flows iff sqrt(3) tau/(Y0 G/G0) > hard.  Nodes that
-    cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min,
+    ``hard[i]`` = H_i = (1 + beta eps_prev_i)^n: a node flows iff x = sqrt(3) tau/(Y0 G/G0) > H_i.  Nodes
+    that cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min,
     E_min the melt factor at an upper bound of the trial temperatures (ad_max + q unit_max, or the
     exact maximum near melting).
+
+    Lazy hardening: ``hard[i] < 0`` marks a stale entry (eps_prev_i grew since H_i was computed;
+    -hard[i] <= H_i is a lower bound, :func:`finish_plastic_step`).  Such a node flows for sure when
+    t = x^(1/n) > (1 + beta eps_prev_i)(1 + LAZY_MARGIN) and (1 + g F_N - h T) E_min x < sqrt(3) tau/Y0
+    (then x > H_i and the skip test above fails with H_i as well); t is the power that d_eps needs
+    anyway, so H_i is not formed.  Otherwise H_i is computed, stored, and the node is treated as
+    before: every d_eps is the one of the exact H_i, bit for bit.
 
     Near melting G -> 0 and x = sqrt(3) tau G0/(G Y0) -> inf, so x^(1/n) (n ~ 0.1) would overflow
     and the kinematic scaling would turn inf * 0 into NaN.  Where (1/n) ln x > LOG_TARGET_MAX the
@@ -106,20 +127,38 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     e_min = math.exp(-xi * th_max / (T_F - th_max))
     s = SQRT3 * tau / Y0
     lin0 = 1.0 + g * F_N + h * 300.0
+    x_big = math.exp(n * LOG_TARGET_MAX)  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
+    lazy = lazy_hardening(p)
     integral = 0.0
     for i in range(m):
         out[i] = 0.0
         th = theta_ad[i] + q * theta_unit[i]
-        if (lin0 - h * th) * e_min * hard[i] >= s:
+        a = (lin0 - h * th) * e_min
+        hv = hard[i]
+        stale = lazy and hv < 0.0
+        if a * (-hv if stale else hv) >= s:
             continue  # G/G0 * hardening already carries tau: elastic
         r = scg_shear_ratio(F_N, th, g, h, xi, T_F)
+        t = -1.0  # x^(1/n), once formed
+        sure = False  # x > H_i, known without H_i
+        if stale:
+            if r > 0.0:
+                x = s / r
+                if x < x_big:
+                    t = x ** (1.0 / n)
+                    sure = t > (1.0 + beta * eps_prev[i]) * (1.0 + LAZY_MARGIN) and a * x < s
+            if not sure:
+                hv = (1.0 + beta * eps_prev[i]) ** n
+                hard[i] = hv
+                if a * hv >= s:
+                    continue
         if r <= 0.0:
             return -1.0
         x = s / r
-        if x <= hard[i]:
+        if not sure and x <= hv:
             continue
-        if x < math.exp(n * LOG_TARGET_MAX):  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
-            d = (x ** (1.0 / n) - 1.0) / beta - eps_prev[i]
+        if x < x_big:
+            d = ((t if t >= 0.0 else x ** (1.0 / n)) - 1.0) / beta - eps_prev[i]
         else:
             d = TARGET_MAX / beta
         if d > 0.0:
@@ -151,7 +190,7 @@ def suffix_max(ad, blk, m):
 
 @njit(cache=True, inline="always")
 def suffix_min(values, blk, m):
-    """min_{i >= m} values[i] from the block suffix minima blk[b] = min_{i >= 8b} values[i] (m < len(values))."""
+    """min_{i >= m} |values[i]| from the block suffix minima blk[b] = min_{i >= 8b} |values[i]| (m < len(values))."""
     nn = values.shape[0]
     b = (m + 7) // 8
     e = 8 * b
@@ -161,21 +200,23 @@ def suffix_min(values, blk, m):
     else:
         e = nn
     for i in range(m, e):
-        if values[i] < low:
-            low = values[i]
+        v = abs(values[i])
+        if v < low:
+            low = v
     return low
 
 
 @njit(cache=True)
 def block_suffix_min(values, blk, top):
-    """blk[b] = min_{i >= 8b} values[i] for the blocks b <= top (those below already hold theirs)."""
+    """blk[b] = min_{i >= 8b} |values[i]| for the blocks b <= top (those below already hold theirs)."""
     nn = values.shape[0]
     nb = blk.shape[0]
     for b in range(min(top, nb - 1), -1, -1):
         low = blk[b + 1] if b + 1 < nb else math.inf
         for i in range(8 * b, min(8 * b + 8, nn)):
-            if values[i] < low:
-                low = values[i]
+            v = abs(values[i])
+            if v < low:
+                low = v
         blk[b] = low
 
 
@@ -204,7 +245,8 @@ def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_bl
     """
     nn = ad.shape[0]
     Y0, g, h, xi, T_F = p[I_Y0], p[I_G], p[I_H], p[I_XI], p[I_TF]
-    if not (h >= 0.0 and xi >= 0.0 and math.isfinite(q_hi) and q_hi >= 0.0 and tau_max >= 0.0):
+    if not (h >= 0.0 and xi >= 0.0 and p[I_BETA] >= 0.0 and math.isfinite(q_hi) and q_hi >= 0.0
+            and tau_max >= 0.0):
         return nn
     s = SQRT3 * tau_max / Y0 * (1.0 + FRONT_MARGIN)
     lo, hi = 0, nn  # the answer lies in [lo, hi]; m = nn always holds
@@ -242,13 +284,18 @@ def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_bl
 def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, weights, pending, pending_depth,
                         plastic_work, lag, rho_c, flags):
     """After the accepted solve, one pass over the yielded layer of every column (nodes below depth[j]):
-    eps += deps, hard = (1 + beta eps)^n (and hard_blk, its block suffix minima); plastic work += sqrt(3) tau
-    sum_i w_i d_eps_i; pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3),
+    eps += deps, hard = (1 + beta eps)^n (and hard_blk, its block suffix minima of |hard|); plastic work +=
+    sqrt(3) tau sum_i w_i d_eps_i; pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3),
     deposited next step, eq. 8.46), zero below; lag = max pending/(rho c); flags[j] = some pending
     heat of column j is a nonzero temperature.  ``pending`` is (n_nodes, n_columns), the rest per column;
     ``pending_depth[j]`` (in/out) bounds the nonzero pending heat of each column (n_nodes is always safe).
+
+    Lazy hardening (:func:`lazy_hardening`): the power is not formed here; a yielded node's entry becomes
+    stale, -H_old (1 - STALE_SHRINK) (a lower bound of the new H), and :func:`plastic_increments` forms H
+    only where it is needed.
     """
     beta, n = p[I_BETA], p[I_N]
+    lazy = lazy_hardening(p)
     nn = eps.shape[1]
     inv_rho_c = 1.0 / rho_c
     for j in range(eps.shape[0]):
@@ -264,8 +311,12 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
             if d > 0.0:
                 e = eps[j, i] + d
                 eps[j, i] = e
-                hard[j, i] = (1.0 + beta * e) ** n
-                top_changed = i
+                if not lazy:
+                    hard[j, i] = (1.0 + beta * e) ** n
+                    top_changed = i
+                elif hard[j, i] >= 0.0:  # becomes stale: its lower bound shrinks
+                    hard[j, i] = -hard[j, i] * (1.0 - STALE_SHRINK)
+                    top_changed = i
             work += weights[i] * d
             h = c * d
             pending[i, j] = h
