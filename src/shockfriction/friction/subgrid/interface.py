@@ -265,8 +265,10 @@ class SubgridInterface:
         # absorb) is added to melt_energy.
         if plastic:
             pend = self._pending_plastic_heat
-            X = cols.advance(dt, pend, int(self._pending_depth.max()), 1.0 / cols.rho_c, T_F - MELT_MARGIN,
-                             self._pending_flags)
+            with_src = np.flatnonzero(self._pending_depth)  # the columns whose pending heat may be nonzero
+            n_src = int(self._pending_depth[with_src].max()) if with_src.size else 0
+            X = cols.advance(dt, pend, n_src, 1.0 / cols.rho_c, T_F - MELT_MARGIN, self._pending_flags,
+                             (int(with_src[0]), int(with_src[-1]) + 1) if with_src.size else (0, 0))
             self.melt_energy += cols._clipped
             deposited = cols._deposited  # J/m^2 put in this step
         else:
