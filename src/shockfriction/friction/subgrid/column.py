@@ -156,9 +156,8 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
     ``src`` keeps the clipped value and ``deposited[j]`` += sum_i w_i p_kept.  The columns listed in ``idle``
     are uniform and source-free: they keep their value (``idle_val`` is scratch).  Only the columns
     j0 <= j < j1 are swept (``j1 < 0``: all); every column outside is idle too (not listed in ``idle``).
-    ``sfx[b, j]`` receives the suffix maximum max_{i >= 8b} theta_ad[i, j] (``sfx[0]``: the column maximum).  The
-    factored Thomas
-    sweeps (eq. A.6-A.12) run row by row, each row's update vectorised across the columns.
+    ``sfx[b, j]`` receives the suffix maximum max_{i >= 8b} theta_ad[i, j] (``sfx[0]``: the column maximum).
+    The factored Thomas sweeps (eq. A.6-A.12) run row by row, each row's update vectorised across the columns.
     """
     nn, ncol = X.shape
     j0 = max(j0, 0)
