@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from shockfriction.coupled.kernels import capped_tangential_step, column_inputs
+from shockfriction.coupled.kernels import capped_tangential_step, column_inputs, tally_branches
 from shockfriction.errors import DeckError, SimulationError
 from shockfriction.friction.subgrid.interface import SubgridInterface
 
@@ -153,11 +153,7 @@ class SubgridFriction:
         """Count which branch gave tau at each friction node-step (in contact with free slip): the Coulomb cap
         mu0 F_N, the sticking cap tau_stick, or the sub-grid model (tau below both caps)."""
         sg = self.columns
-        friction = (self.sigma_n > 0.0) & (self.v_free != 0.0)
-        coulomb = friction & (tau >= sg.tau_coulomb) & (sg.tau_coulomb <= sg.tau_stick)
-        stick = friction & ~coulomb & (tau >= sg.tau_stick)
-        n_c, n_s = int(coulomb.sum()), int(stick.sum())
-        self._branch_counts += (n_c, n_s, int(friction.sum()) - n_c - n_s)
+        tally_branches(self.sigma_n, self.v_free, tau, sg.tau_coulomb, sg.tau_stick, self._branch_counts)
 
     def _guide_load(self, n: int) -> np.ndarray:
         if getattr(self, "_load", None) is None or self._load.size != n:

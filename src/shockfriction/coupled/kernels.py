@@ -103,3 +103,18 @@ def capped_tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, cap, 
     for j in range(ns):
         slip[j] = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j]) if active[j] else 0.0
     return sweeps
+
+
+@njit(cache=True)
+def tally_branches(sigma_n, v_free, tau, tau_coulomb, tau_stick, counts):
+    """counts += the friction node-steps (in contact, free slip) whose tau is the Coulomb cap (tau >= mu0 F_N <=
+    tau_stick), else the sticking cap (tau >= tau_stick), else the sub-grid branch."""
+    for j in range(tau.shape[0]):
+        if not (sigma_n[j] > 0.0 and v_free[j] != 0.0):
+            continue
+        if tau[j] >= tau_coulomb[j] and tau_coulomb[j] <= tau_stick[j]:
+            counts[0] += 1
+        elif tau[j] >= tau_stick[j]:
+            counts[1] += 1
+        else:
+            counts[2] += 1

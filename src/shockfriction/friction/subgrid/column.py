@@ -296,7 +296,8 @@ def extend_grid(z: np.ndarray, depth: float, ratio: float = 1.05) -> np.ndarray:
     return np.asarray(out)
 
 
-def control_weights(z: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def control_weights(z):
     """Control-volume widths w_i (trapezoid weights): sum_i w_i g_i is the trapezoid rule of g."""
     dz = np.diff(z)
     w = np.zeros(z.size)
@@ -305,7 +306,8 @@ def control_weights(z: np.ndarray) -> np.ndarray:
     return w
 
 
-def heat_matrix(z: np.ndarray, diffusivity: float, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+@njit(cache=True)
+def heat_matrix(z, diffusivity, dt):
     """Diagonals (a, b, c) of the backward-Euler matrix K (table 7.66 on a uniform grid)."""
     dz = np.diff(z)
     w = control_weights(z)
@@ -316,6 +318,19 @@ def heat_matrix(z: np.ndarray, diffusivity: float, dt: float) -> tuple[np.ndarra
     c[:-1] = -diffusivity * dt / (w[:-1] * dz)
     b = 1.0 - a - c
     return a, b, c
+
+
+@njit(cache=True)
+def factor_step(z, diffusivity, dt, rho_c):
+    """Everything a step of ``dt`` needs: the Thomas factors (mult, 1/b') and c of K, the unit-flux response
+    theta_unit = K^{-1} e_0 dt/(rho c w_0) (K m^2/W) and its maximum."""
+    a, b, c = heat_matrix(z, diffusivity, dt)
+    mult, inv_bp = thomas_factor(a, b, c)
+    rhs = np.zeros(z.size)
+    rhs[0] = dt / (rho_c * control_weights(z)[0])
+    unit = np.empty(z.size)
+    thomas_apply(mult, inv_bp, c, rhs, unit)
+    return mult, inv_bp, c, unit, unit.max()
 
 
 # --------------------------------------------------------------------------- the columns
@@ -395,15 +410,9 @@ class ThermalColumns:
             self.mult, self.inv_bp, self.c, self.theta_unit, self.unit_max = self._cache[dt]
             self.dt = dt
             return
-        a, b, c = heat_matrix(self.z, self.alpha, dt)
-        self.mult, self.inv_bp = thomas_factor(a, b, c)
-        self.c = c
-        rhs = np.zeros(self.n_nodes)
-        rhs[0] = dt / (self.rho_c * self.weights[0])
-        unit = np.empty(self.n_nodes)
-        thomas_apply(self.mult, self.inv_bp, c, rhs, unit)
+        self.mult, self.inv_bp, self.c, unit, unit_max = factor_step(self.z, self.alpha, dt, self.rho_c)
         self.theta_unit = unit  #: temperature rise per W/m^2 of interface flux over one step, K m^2/W
-        self.unit_max = float(unit.max())
+        self.unit_max = float(unit_max)
         self.dt = dt
         self.factorisations += 1
         if len(self._cache) >= self.CACHE_SIZE:

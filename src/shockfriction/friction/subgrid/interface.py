@@ -146,6 +146,7 @@ class SubgridInterface:
         # J/m^3, deposited next step (lagged source); (n_nodes, n_columns) like the temperatures it heats
         self._pending_plastic_heat = np.zeros((nn, n))
         self._pending_flags = np.zeros(n, dtype=np.bool_)  # column j has pending heat (a nonzero source)
+        self._pending_sum = np.zeros(n)  # sum_i w_i pending_ij (J/m^2), from finish_plastic_step
         self._deps = np.zeros((n, nn))
         self._depth = np.full(n, nn, dtype=np.int64)  # plastic-front bound: _deps[j, _depth[j]:] == 0
         self._pending_depth = np.zeros(n, dtype=np.int64)  # _pending_plastic_heat[_pending_depth[j]:, j] == 0
@@ -232,6 +233,8 @@ class SubgridInterface:
     @property
     def plastic_heat_pending(self) -> np.ndarray:
         """Plastic heat of the last step not yet deposited in the column (J/m^2)."""
+        if self.model == "thermoelastoplastic":
+            return self._pending_sum.copy()  # summed node by node as finish_plastic_step writes it
         return self.columns.weights @ self._pending_plastic_heat
 
     # ------------------------------------------------------------------ the step
@@ -303,7 +306,8 @@ class SubgridInterface:
             finish_plastic_step(self.eps_p, self._deps, self._hard, self._hard_blk, self.scg, self._depth, tau,
                                 self.beta_Q * SQRT3,
                                 cols.weights, self._pending_plastic_heat, self._pending_depth,
-                                self.plastic_work, self.lag_temperature, cols.rho_c, self._pending_flags)
+                                self.plastic_work, self.lag_temperature, cols.rho_c, self._pending_flags,
+                                self._pending_sum)
             if not np.all(np.isfinite(self.plastic_work)):
                 j = int(np.argmax(~np.isfinite(self.plastic_work)))
                 raise SimulationError(f"sub-grid step {when}: node {j}: non-finite plastic strain increment "

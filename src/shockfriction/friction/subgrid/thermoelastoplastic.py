@@ -139,14 +139,13 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
         if a * (-hv if stale else hv) >= s:
             continue  # G/G0 * hardening already carries tau: elastic
         r = scg_shear_ratio(F_N, th, g, h, xi, T_F)
+        x = s / r if r > 0.0 else math.inf
         t = -1.0  # x^(1/n), once formed
         sure = False  # x > H_i, known without H_i
         if stale:
-            if r > 0.0:
-                x = s / r
-                if x < x_big:
-                    t = x ** (1.0 / n)
-                    sure = t > (1.0 + beta * eps_prev[i]) * (1.0 + LAZY_MARGIN) and a * x < s
+            if x < x_big:
+                t = x ** (1.0 / n)
+                sure = t > (1.0 + beta * eps_prev[i]) * (1.0 + LAZY_MARGIN) and a * x < s
             if not sure:
                 hv = (1.0 + beta * eps_prev[i]) ** n
                 hard[i] = hv
@@ -154,7 +153,6 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
                     continue
         if r <= 0.0:
             return -1.0
-        x = s / r
         if not sure and x <= hv:
             continue
         if x < x_big:
@@ -250,7 +248,8 @@ def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_bl
         return nn
     s = SQRT3 * tau_max / Y0 * (1.0 + FRONT_MARGIN)
     lo, hi = 0, nn  # the answer lies in [lo, hi]; m = nn always holds
-    if 0 <= guess < nn:
+    guess = min(guess, nn - 1)  # a last bound of nn: try nn - 1 first (a column yielding to depth stays there)
+    if 0 <= guess:
         step = 1
         if _front_ok(guess, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
             hi = guess
@@ -282,12 +281,13 @@ def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_bl
 
 @njit(cache=True)
 def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, weights, pending, pending_depth,
-                        plastic_work, lag, rho_c, flags):
+                        plastic_work, lag, rho_c, flags, pending_sum):
     """After the accepted solve, one pass over the yielded layer of every column (nodes below depth[j]):
     eps += deps, hard = (1 + beta eps)^n (and hard_blk, its block suffix minima of |hard|); plastic work +=
     sqrt(3) tau sum_i w_i d_eps_i; pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3),
-    deposited next step, eq. 8.46), zero below; lag = max pending/(rho c); flags[j] = some pending
-    heat of column j is a nonzero temperature.  ``pending`` is (n_nodes, n_columns), the rest per column;
+    deposited next step, eq. 8.46), zero below; pending_sum = sum_i w_i pending_i (J/m^2); lag = max pending/(rho c);
+    flags[j] = some pending heat of column j is a nonzero temperature.  ``pending`` is (n_nodes, n_columns), the
+    rest per column;
     ``pending_depth[j]`` (in/out) bounds the nonzero pending heat of each column (n_nodes is always safe).
 
     Lazy hardening (:func:`lazy_hardening`): the power is not formed here; a yielded node's entry becomes
@@ -303,6 +303,7 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
         old = pending_depth[j] if 0 <= pending_depth[j] <= nn else nn
         c = heat_factor * tau[j]
         work = 0.0
+        heat = 0.0
         top = 0.0
         flag = False
         top_changed = -1  # deepest node whose hardening changed
@@ -320,6 +321,7 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
             work += weights[i] * d
             h = c * d
             pending[i, j] = h
+            heat += weights[i] * h
             if h * inv_rho_c != 0.0:
                 flag = True
             if h > top:
@@ -331,6 +333,7 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
         pending_depth[j] = m
         flags[j] = flag
         plastic_work[j] += SQRT3 * tau[j] * work
+        pending_sum[j] = heat
         lag[j] = top / rho_c
 
 
