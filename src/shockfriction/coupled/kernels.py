@@ -118,3 +118,32 @@ def tally_branches(sigma_n, v_free, tau, tau_coulomb, tau_stick, counts):
             counts[1] += 1
         else:
             counts[2] += 1
+
+
+@njit(cache=True)
+def stash_sums(friction_work, heat_interface, heat_plastic, plastic_work, melt_energy, before):
+    """before[k] = the k-th per-node running sum (the column energies before a step)."""
+    for j in range(friction_work.shape[0]):
+        before[0, j] = friction_work[j]
+        before[1, j] = heat_interface[j]
+        before[2, j] = heat_plastic[j]
+        before[3, j] = plastic_work[j]
+        before[4, j] = melt_energy[j]
+
+
+@njit(cache=True)
+def step_increments(friction_work, heat_interface, heat_plastic, plastic_work, melt_energy, before, tau, slip_local,
+                    slip_plastic, slip_macro, area, dt, beta_T, beta_Q, cap, parts, win_local, win_plastic, win_macro):
+    """Per node after a column step: the impulse cap tau S dt, the energy increments per unit area (parts:
+    friction work, heat put in the column (interface + plastic), the other body's share (1 - beta_T) tau [v] dt,
+    cold work (1 - beta_Q) d(plastic work), clipped melt energy) and the window sums of the slips times dt."""
+    for j in range(tau.shape[0]):
+        cap[j] = tau[j] * (area[j] * dt)
+        parts[0, j] = friction_work[j] - before[0, j]
+        parts[1, j] = (heat_interface[j] - before[1, j]) + (heat_plastic[j] - before[2, j])
+        parts[2, j] = (1.0 - beta_T) * (tau[j] * slip_local[j] * dt)
+        parts[3, j] = (1.0 - beta_Q) * (plastic_work[j] - before[3, j])
+        parts[4, j] = melt_energy[j] - before[4, j]
+        win_local[j] += slip_local[j] * dt
+        win_plastic[j] += slip_plastic[j] * dt
+        win_macro[j] += slip_macro[j] * dt
