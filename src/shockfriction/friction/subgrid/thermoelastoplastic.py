@@ -80,7 +80,7 @@ def lazy_hardening(p):
 
 @njit(cache=True, inline="always")
 def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out,
-                       depth=-1, q_hi=math.inf):
+                       scratch, depth=-1, q_hi=math.inf):
     """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit;
     return the trapezoid integral sum_i w_i d_eps_i, or -1 if some node has no strength left (G = 0).
 
@@ -104,6 +104,11 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     ``depth`` (>= 0) is a plastic-front bound from :func:`plastic_depth`: for 0 <= q <= ``q_hi``
     the nodes from ``depth`` on are proven elastic, so only ``out[:depth]`` is written (the
     caller keeps the rest zero).  Outside that range, or with ``depth < 0``, every node is visited.
+
+    The nodes are visited in three passes (``scratch``, (3, n_nodes), holds G/G0, x and x^(1/n) between
+    them): the exponentials, then the powers, then the decisions in node order.  Each pass is a short
+    loop whose iterations overlap in the processor (one pass of all three chains did not); the values,
+    the powers formed and the result are those of a single pass.
     """
     Y0, beta, n = p[I_Y0], p[I_BETA], p[I_N]
     g, h, xi, T_F = p[I_G], p[I_H], p[I_XI], p[I_TF]
@@ -129,22 +134,43 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     lin0 = 1.0 + g * F_N + h * 300.0
     x_big = math.exp(n * LOG_TARGET_MAX)  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
     lazy = lazy_hardening(p)
-    integral = 0.0
+    rb, xb, tb = scratch[0], scratch[1], scratch[2]
+    # pass 1: the skip test, and G/G0 (an exponential) where it fails (NaN: skipped; G/G0 is never NaN)
     for i in range(m):
-        out[i] = 0.0
         th = theta_ad[i] + q * theta_unit[i]
         a = (lin0 - h * th) * e_min
         hv = hard[i]
-        stale = lazy and hv < 0.0
-        if a * (-hv if stale else hv) >= s:
-            continue  # G/G0 * hardening already carries tau: elastic
-        r = scg_shear_ratio(F_N, th, g, h, xi, T_F)
-        x = s / r if r > 0.0 else math.inf
-        t = -1.0  # x^(1/n), once formed
-        sure = False  # x > H_i, known without H_i
-        if stale:
-            if x < x_big:
+        if a * (-hv if (lazy and hv < 0.0) else hv) >= s:
+            rb[i] = math.nan  # G/G0 * hardening already carries tau: elastic
+        else:
+            rb[i] = scg_shear_ratio(F_N, th, g, h, xi, T_F)
+    # pass 2: x and the power x^(1/n) where pass 3 needs it (-1: not formed)
+    for i in range(m):
+        r = rb[i]
+        t = -1.0
+        x = math.inf
+        if r > 0.0:
+            x = s / r
+            hv = hard[i]
+            if ((lazy and hv < 0.0) or not x <= hv) and x < x_big:
                 t = x ** (1.0 / n)
+        xb[i] = x
+        tb[i] = t
+    # pass 3: the decisions, in node order
+    integral = 0.0
+    for i in range(m):
+        out[i] = 0.0
+        r = rb[i]
+        if r != r:
+            continue
+        th = theta_ad[i] + q * theta_unit[i]
+        a = (lin0 - h * th) * e_min
+        hv = hard[i]
+        x = xb[i]
+        t = tb[i]
+        sure = False  # x > H_i, known without H_i
+        if lazy and hv < 0.0:  # stale hardening: flows for sure, or form H_i
+            if t >= 0.0:
                 sure = t > (1.0 + beta * eps_prev[i]) * (1.0 + LAZY_MARGIN) and a * x < s
             if not sure:
                 hv = (1.0 + beta * eps_prev[i]) ** n
@@ -339,14 +365,14 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
 
 @njit(cache=True, inline="always")
 def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, unit_max, F_N, v_free, v_prev,
-              k, tau_cap, beta_T, f, p, dt, deps, depth, q_hi):
+              k, tau_cap, beta_T, f, p, dt, deps, depth, q_hi, scratch):
     """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate)."""
     tau = friction_stress(F_N, theta, tau_cap, f, p)
     vh = corrected_slip(v_free, tau, k)
     v_mac = abs(0.5 * (vh + v_prev))
     q = (theta - theta_ad[0]) / a0
     integral = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max,
-                                  p, deps, depth, q_hi)
+                                  p, deps, scratch, depth, q_hi)
     if integral >= 0.0:
         rate = SQRT3 * integral / dt
         if rate > v_mac:  # kinematic limit: the layer takes at most the macroscopic slip of the step
@@ -383,14 +409,15 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     nn = theta_unit.shape[0]
     _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
-                   status, depth, use_front, np.empty(BRENT_STATE), np.empty(nn))
+                   status, depth, use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((3, nn)))
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
-                   status, depth, use_front, st, unit_sfx):
-    """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes)."""
+                   status, depth, use_front, st, unit_sfx, scratch):
+    """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes,
+    ``scratch`` (3, n_nodes) for :func:`plastic_increments`)."""
     T_F = p[I_TF]
     a0 = theta_unit[0]
     nn = theta_unit.shape[0]
@@ -453,7 +480,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
         # the last evaluation (point, results; its d_eps are in drow): reused when it is the accepted point
         r_lo, t, vh, vl, rate = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
                                           F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
-                                          m, q_hi)
+                                          m, q_hi, scratch)
         x = lo
         x_last = lo
         if r_lo < 0.0:
@@ -467,7 +494,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
                     break
                 r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
                                                F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt,
-                                               drow, m, q_hi)
+                                               drow, m, q_hi, scratch)
                 x_last = x
                 brent_feed(st, r)
                 iters[j] = it + 1
@@ -477,7 +504,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
         if x != x_last:  # _evaluate is deterministic: the same point gives the same state
             r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
                                            F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
-                                           m, q_hi)
+                                           m, q_hi, scratch)
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
             status[j] = ABOVE_MELT
         theta_s[j] = x
