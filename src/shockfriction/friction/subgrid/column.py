@@ -299,24 +299,30 @@ def extend_grid(z: np.ndarray, depth: float, ratio: float = 1.05) -> np.ndarray:
 @njit(cache=True)
 def control_weights(z):
     """Control-volume widths w_i (trapezoid weights): sum_i w_i g_i is the trapezoid rule of g."""
-    dz = np.diff(z)
-    w = np.zeros(z.size)
-    w[:-1] += 0.5 * dz
-    w[1:] += 0.5 * dz
+    n = z.size
+    w = np.zeros(n)
+    for i in range(n - 1):
+        w[i] += 0.5 * (z[i + 1] - z[i])
+    for i in range(n - 1):
+        w[i + 1] += 0.5 * (z[i + 1] - z[i])
     return w
 
 
 @njit(cache=True)
 def heat_matrix(z, diffusivity, dt):
     """Diagonals (a, b, c) of the backward-Euler matrix K (table 7.66 on a uniform grid)."""
-    dz = np.diff(z)
     w = control_weights(z)
     n = z.size
     a = np.zeros(n)
     c = np.zeros(n)
-    a[1:] = -diffusivity * dt / (w[1:] * dz)
-    c[:-1] = -diffusivity * dt / (w[:-1] * dz)
-    b = 1.0 - a - c
+    num = -diffusivity * dt
+    for i in range(n - 1):
+        dz = z[i + 1] - z[i]
+        a[i + 1] = num / (w[i + 1] * dz)
+        c[i] = num / (w[i] * dz)
+    b = np.empty(n)
+    for i in range(n):
+        b[i] = 1.0 - a[i] - c[i]
     return a, b, c
 
 
