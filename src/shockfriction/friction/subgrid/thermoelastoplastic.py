@@ -105,10 +105,10 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     the nodes from ``depth`` on are proven elastic, so only ``out[:depth]`` is written (the
     caller keeps the rest zero).  Outside that range, or with ``depth < 0``, every node is visited.
 
-    The nodes are visited in three passes (``scratch``, (3, n_nodes), holds G/G0, x and x^(1/n) between
-    them): the exponentials, then the powers, then the decisions in node order.  Each pass is a short
-    loop whose iterations overlap in the processor (one pass of all three chains did not); the values,
-    the powers formed and the result are those of a single pass.
+    The nodes are visited in three passes (``scratch``, (4, n_nodes), holds G/G0, x, x^(1/n) and the
+    linear strength bound between them): the exponentials, then the powers, then the decisions in node
+    order.  Each pass is a short loop whose iterations overlap in the processor (one pass of all three
+    chains did not); the values, the powers formed and the result are those of a single pass.
     """
     Y0, beta, n = p[I_Y0], p[I_BETA], p[I_N]
     g, h, xi, T_F = p[I_G], p[I_H], p[I_XI], p[I_TF]
@@ -134,11 +134,12 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     lin0 = 1.0 + g * F_N + h * 300.0
     x_big = math.exp(n * LOG_TARGET_MAX)  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
     lazy = lazy_hardening(p)
-    rb, xb, tb = scratch[0], scratch[1], scratch[2]
+    rb, xb, tb, ab = scratch[0], scratch[1], scratch[2], scratch[3]
     # pass 1: the skip test, and G/G0 (an exponential) where it fails (NaN: skipped; G/G0 is never NaN)
     for i in range(m):
         th = theta_ad[i] + q * theta_unit[i]
         a = (lin0 - h * th) * e_min
+        ab[i] = a
         hv = hard[i]
         if a * (-hv if (lazy and hv < 0.0) else hv) >= s:
             rb[i] = math.nan  # G/G0 * hardening already carries tau: elastic
@@ -163,8 +164,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
         r = rb[i]
         if r != r:
             continue
-        th = theta_ad[i] + q * theta_unit[i]
-        a = (lin0 - h * th) * e_min
+        a = ab[i]
         hv = hard[i]
         x = xb[i]
         t = tb[i]
@@ -409,7 +409,7 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     nn = theta_unit.shape[0]
     _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
-                   status, depth, use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((3, nn)))
+                   status, depth, use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)))
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -417,7 +417,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
                    status, depth, use_front, st, unit_sfx, scratch):
     """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes,
-    ``scratch`` (3, n_nodes) for :func:`plastic_increments`)."""
+    ``scratch`` (4, n_nodes) for :func:`plastic_increments`)."""
     T_F = p[I_TF]
     a0 = theta_unit[0]
     nn = theta_unit.shape[0]
