@@ -141,8 +141,8 @@ class SubgridInterface:
         self.xtol, self.max_iter = float(xtol), int(max_iter)
         n, nn = self.n_columns, self.columns.n_nodes
         self.eps_p = np.zeros((n, nn))
-        self._hard = np.ones((n, nn))  # (1 + beta eps_p)^n
-        self._hard_blk = np.ones((n, (nn + 7) // 8))  # min_{i >= 8b} _hard[j, i]: the plastic-front bound uses it
+        self._hard = np.ones((n, nn))  # (1 + beta eps_p)^n, or minus a lower bound of it where stale (lazy hardening)
+        self._hard_blk = np.ones((n, (nn + 7) // 8))  # min_{i >= 8b} |_hard[j, i]|: the plastic-front bound uses it
         # J/m^3, deposited next step (lagged source); (n_nodes, n_columns) like the temperatures it heats
         self._pending_plastic_heat = np.zeros((nn, n))
         self._pending_flags = np.zeros(n, dtype=np.bool_)  # column j has pending heat (a nonzero source)
