@@ -10,7 +10,7 @@ import h5py
 import numpy as np
 import pytest
 
-from shockfriction.friction.subgrid.column import ThermalColumns, heat_matrix, melt_check, thomas_solve
+from shockfriction.friction.subgrid.column import ThermalColumns, heat_matrix, melt_check, sweep_columns, thomas_solve
 from shockfriction.friction.subgrid.interface import SubgridInterface
 from shockfriction.io.checkpoint import load_object, save_object
 from shockfriction.materials.library import get_material
@@ -57,6 +57,39 @@ def test_lazy_sweep_with_sources_and_idle_columns_equals_thomas_per_column():
     assert np.all(col._clipped == 0.0)  # no melt limit given
     sfx = np.maximum.accumulate(X[::-1], axis=0)[::-1]
     assert np.array_equal(col._sfx, sfx[::8]) and np.array_equal(col.col_max, X.max(axis=0))
+
+
+@pytest.mark.parametrize("lazy", [True, False])
+def test_sweep_of_the_busy_span_equals_the_full_sweep_bit_for_bit(lazy):
+    """Only the columns between the first and last busy one are swept (idle ones outside keep their value,
+    their suffix maxima are theta(0)), the source only in its own span: every output as the full sweep's."""
+    rng = np.random.default_rng(7)
+    col = columns(n=14)
+    n, nn = col.n_columns, col.n_nodes
+    dt = 0.7e-9
+    col.prepare(dt)
+    col.X[...] = 300.0 + rng.uniform(0.0, 600.0, size=col.X.shape)
+    idle = np.array([0, 1, 2, 6, 12, 13])
+    col.X[:, idle] = 300.0 + np.arange(idle.size)  # uniform idle columns
+    col.active[:] = True
+    col.active[idle] = False
+    if lazy:
+        q = rng.uniform(1e9, 3e10, n)
+        q[idle] = 0.0
+        col.set_flux(q)
+    src = np.zeros((nn, n))
+    src[:20, 4:10] = rng.uniform(0.0, 1e9, size=(20, 6))
+    src[:3, 8] = 1e12  # clipped by the melt guard
+    flags = np.any(src != 0.0, axis=0)
+    factor = 1.0 / col.rho_c
+    ref = (col.X.copy(), src.copy(), np.zeros(n), np.zeros(n), np.zeros_like(col._sfx))
+    sweep_columns(ref[0], col.q_lazy, col.unit_lazy, col.lazy, ref[1], 20, factor, col.rho_c, 1000.0, col.weights,
+                  ref[2], ref[3], col.mult, col.inv_bp, col.c, col._idle(flags), np.empty(n), ref[4])
+    X = col.advance(dt, src, 20, factor, 1000.0, src_flags=flags, src_span=(4, 10))
+    assert (col._span(flags, (4, 10))[:2]) == (3, 12)
+    for got, want in zip((X, src, col._clipped, col._deposited, col._sfx), ref):
+        assert np.array_equal(got, want)
+    assert col._clipped[8] > 0.0
 
 
 def test_public_adiabatic_keeps_the_state_and_equals_the_in_place_sweep():

@@ -40,7 +40,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from shockfriction.coupled.kernels import capped_tangential_step, column_inputs
+from shockfriction.coupled.kernels import (capped_tangential_step, column_inputs, stash_sums, step_increments,
+                                          tally_branches)
 from shockfriction.errors import DeckError, SimulationError
 from shockfriction.friction.subgrid.interface import SubgridInterface
 
@@ -81,6 +82,8 @@ class SubgridFriction:
             setattr(self, key, np.zeros(n))
         for key in ENERGY_KEYS:
             setattr(self, key, 0.0)
+        self._before = np.zeros((5, n))  # the column energies before a step (see step_increments)
+        self._parts = np.zeros((5, n))  # their increments per unit area
         self._win_local = np.zeros(n)
         self._win_plastic = np.zeros(n)
         self._win_macro = np.zeros(n)
@@ -113,33 +116,27 @@ class SubgridFriction:
                       line.active, line.lam_n, line.area, dt, self.bilateral, self._guide_load(mass.size),
                       IDLE_SLIP, self.sigma_n, self.v_free,
                       self.v_prev, self.m_slave, self.m_guide)
-        before = [sg.friction_work.copy(), sg.heat_interface.copy(), sg.heat_plastic.copy(), sg.plastic_work.copy(),
-                  sg.melt_energy.copy()]
+        stash_sums(sg.friction_work, sg.heat_interface, sg.heat_plastic, sg.plastic_work, sg.melt_energy, self._before)
         try:
             tau, _ = sg.step(self.sigma_n, self.v_free, self.v_prev, self.m_slave, self.m_guide, line.area, dt,
                              cycle=self.steps + 1, time=t)
         except SimulationError as exc:
             raise SimulationError(f"slide line {self.name!r}, sub-grid friction step {self.steps + 1}: {exc}") from None
-        np.multiply(tau, line.area * dt, out=self.cap)
+        S = line.area
+        parts = self._parts
+        step_increments(sg.friction_work, sg.heat_interface, sg.heat_plastic, sg.plastic_work, sg.melt_energy,
+                        self._before, tau, sg.slip_local, sg.slip_plastic, sg.slip_macro, S, dt, sg.beta_T, sg.beta_Q,
+                        self.cap, parts, self._win_local, self._win_plastic, self._win_macro)
         sweeps = capped_tangential_step(vx, vy, mass, line.slave_imp, line.gnode, line.gw, line.tx, line.ty,
                                         line.active, self.cap, line.max_sweeps, line.rel_tol, line.lam_t, line.slip)
         line.slip_free[:] = self.v_free
-        S = line.area
-        d_work = sg.friction_work - before[0]
-        d_iface = sg.heat_interface - before[1]
-        d_plastic_heat = sg.heat_plastic - before[2]
-        d_plastic = sg.plastic_work - before[3]
-        generated = tau * sg.slip_local * dt
-        self.friction_work_columns += float(S @ d_work)
-        self.heat_columns += float(S @ (d_iface + d_plastic_heat))
-        self.heat_other += float(S @ ((1.0 - sg.beta_T) * generated))
-        self.cold_work += float(S @ ((1.0 - sg.beta_Q) * d_plastic))
+        self.friction_work_columns += float(S @ parts[0])
+        self.heat_columns += float(S @ parts[1])
+        self.heat_other += float(S @ parts[2])
+        self.cold_work += float(S @ parts[3])
         self.plastic_heat_pending = float(S @ sg.plastic_heat_pending)
-        self.melt_energy += float(S @ (sg.melt_energy - before[4]))
+        self.melt_energy += float(S @ parts[4])
         self._tally(tau)
-        self._win_local += sg.slip_local * dt
-        self._win_plastic += sg.slip_plastic * dt
-        self._win_macro += sg.slip_macro * dt
         self._win_time += dt
         self.steps += 1
         if self.trace is not None:
@@ -154,11 +151,7 @@ class SubgridFriction:
         """Count which branch gave tau at each friction node-step (in contact with free slip): the Coulomb cap
         mu0 F_N, the sticking cap tau_stick, or the sub-grid model (tau below both caps)."""
         sg = self.columns
-        friction = (self.sigma_n > 0.0) & (self.v_free != 0.0)
-        coulomb = friction & (tau >= sg.tau_coulomb) & (sg.tau_coulomb <= sg.tau_stick)
-        stick = friction & ~coulomb & (tau >= sg.tau_stick)
-        n_c, n_s = int(coulomb.sum()), int(stick.sum())
-        self._branch_counts += (n_c, n_s, int(friction.sum()) - n_c - n_s)
+        tally_branches(self.sigma_n, self.v_free, tau, sg.tau_coulomb, sg.tau_stick, self._branch_counts)
 
     def _guide_load(self, n: int) -> np.ndarray:
         if getattr(self, "_load", None) is None or self._load.size != n:

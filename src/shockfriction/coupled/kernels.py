@@ -103,3 +103,47 @@ def capped_tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, cap, 
     for j in range(ns):
         slip[j] = _relative_velocity(vx, vy, j, slave[j], gnode, gw, tx[j], ty[j]) if active[j] else 0.0
     return sweeps
+
+
+@njit(cache=True)
+def tally_branches(sigma_n, v_free, tau, tau_coulomb, tau_stick, counts):
+    """counts += the friction node-steps (in contact, free slip) whose tau is the Coulomb cap (tau >= mu0 F_N <=
+    tau_stick), else the sticking cap (tau >= tau_stick), else the sub-grid branch."""
+    for j in range(tau.shape[0]):
+        if not (sigma_n[j] > 0.0 and v_free[j] != 0.0):
+            continue
+        if tau[j] >= tau_coulomb[j] and tau_coulomb[j] <= tau_stick[j]:
+            counts[0] += 1
+        elif tau[j] >= tau_stick[j]:
+            counts[1] += 1
+        else:
+            counts[2] += 1
+
+
+@njit(cache=True)
+def stash_sums(friction_work, heat_interface, heat_plastic, plastic_work, melt_energy, before):
+    """before[k] = the k-th per-node running sum (the column energies before a step)."""
+    for j in range(friction_work.shape[0]):
+        before[0, j] = friction_work[j]
+        before[1, j] = heat_interface[j]
+        before[2, j] = heat_plastic[j]
+        before[3, j] = plastic_work[j]
+        before[4, j] = melt_energy[j]
+
+
+@njit(cache=True)
+def step_increments(friction_work, heat_interface, heat_plastic, plastic_work, melt_energy, before, tau, slip_local,
+                    slip_plastic, slip_macro, area, dt, beta_T, beta_Q, cap, parts, win_local, win_plastic, win_macro):
+    """Per node after a column step: the impulse cap tau S dt, the energy increments per unit area (parts:
+    friction work, heat put in the column (interface + plastic), the other body's share (1 - beta_T) tau [v] dt,
+    cold work (1 - beta_Q) d(plastic work), clipped melt energy) and the window sums of the slips times dt."""
+    for j in range(tau.shape[0]):
+        cap[j] = tau[j] * (area[j] * dt)
+        parts[0, j] = friction_work[j] - before[0, j]
+        parts[1, j] = (heat_interface[j] - before[1, j]) + (heat_plastic[j] - before[2, j])
+        parts[2, j] = (1.0 - beta_T) * (tau[j] * slip_local[j] * dt)
+        parts[3, j] = (1.0 - beta_Q) * (plastic_work[j] - before[3, j])
+        parts[4, j] = melt_energy[j] - before[4, j]
+        win_local[j] += slip_local[j] * dt
+        win_plastic[j] += slip_plastic[j] * dt
+        win_macro[j] += slip_macro[j] * dt

@@ -86,23 +86,87 @@ def thomas_apply(mult, inv_bp, c, d, x):
         x[k] = (x[k] - c[k] * x[k + 1]) * inv_bp[k]
 
 
+# Row kernels of the sweep on 1-D row slices (columns j0..j1 of a row), indexed from 0 so that the compiler sees
+# non-negative indices (no wraparound select) and vectorises them.
+@njit(cache=True, inline="always")
+def _source_row(cur, prev, q, s, clipped, deposited, u, m, w, rho_c, limit, factor, lazy, first):
+    """Forward elimination of a row with a source (clipped to rho_c (limit - theta), booked per column)."""
+    for j in range(cur.shape[0]):  # branch-free: an unclipped value adds w * 0 = 0 to clipped[j]
+        th = cur[j] + q[j] * u if lazy else cur[j]
+        p = s[j]
+        room = rho_c * (limit - th)
+        room = room if room > 0.0 else 0.0
+        kept = room if p > room else p
+        clipped[j] += w * (p - kept)
+        s[j] = kept
+        deposited[j] += w * kept
+    for j in range(cur.shape[0]):
+        th = cur[j] + q[j] * u if lazy else cur[j]
+        v = th + s[j] * factor
+        cur[j] = v if first else v - m * prev[j]
+
+
+@njit(cache=True, inline="always")
+def _plain_row(cur, prev, q, u, m, lazy, first):
+    """Forward elimination of a row without a source: cur_j = (cur_j + q_j u) - m prev_j (lazy), cur_j - m prev_j."""
+    if first:
+        if lazy:
+            for j in range(cur.shape[0]):
+                cur[j] = cur[j] + q[j] * u
+    elif lazy:
+        for j in range(cur.shape[0]):
+            cur[j] = (cur[j] + q[j] * u) - m * prev[j]
+    else:
+        for j in range(cur.shape[0]):
+            cur[j] = cur[j] - m * prev[j]
+
+
+@njit(cache=True, inline="always")
+def _back_row(cur, nxt, ci, ib, last):
+    """Back substitution of a row: cur_j = (cur_j - c_i nxt_j) / b'_i (the last row: cur_j / b'_i)."""
+    if last:
+        for j in range(cur.shape[0]):
+            cur[j] = cur[j] * ib
+    else:
+        for j in range(cur.shape[0]):
+            cur[j] = (cur[j] - ci * nxt[j]) * ib
+
+
+@njit(cache=True, inline="always")
+def _max_row(top, row):
+    """top_j = max(top_j, row_j)."""
+    for j in range(top.shape[0]):
+        a = top[j]
+        x = row[j]
+        top[j] = x if x > a else a
+
+
 @njit(cache=True)
 def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, clipped, deposited, mult, inv_bp, c,
-                  idle, idle_val, sfx):
+                  idle, idle_val, sfx, j0=0, j1=-1, s0=0, s1=-1):
     """theta_ad for every column, in place: X (n_nodes, n_columns) holds theta on entry (or, when ``lazy``,
     the previous theta_ad with theta = X + q theta_unit_prev, eq. 7.70, applied here on the fly: the
     affine update of the last step folded into this forward sweep) and theta_ad on exit,
     K theta_ad = theta + factor src.
 
-    Only the first ``n_src`` rows of ``src`` are read (zero below; ``n_src = 0``: no source, none read).
+    Only the first ``n_src`` rows of ``src`` are read (zero below; ``n_src = 0``: no source, none read),
+    and only in the columns s0 <= j < s1 (zero elsewhere; ``s1 < 0``: every column).
     Each source value p (J/m^3 or W/m^3 by ``factor``) is first clipped to rho_c (limit - theta) >= 0
     (melt guard, ``limit = inf``: none); ``clipped[j]`` receives the clipped energy sum_i w_i (p - kept),
     ``src`` keeps the clipped value and ``deposited[j]`` += sum_i w_i p_kept.  The columns listed in ``idle``
-    are uniform and source-free: they keep their value (``idle_val`` is scratch).  ``sfx[b, j]`` receives the
-    suffix maximum max_{i >= 8b} theta_ad[i, j] (``sfx[0]``: the column maximum).  The factored Thomas
-    sweeps (eq. A.6-A.12) run row by row, each row's update vectorised across the columns.
+    are uniform and source-free: they keep their value (``idle_val`` is scratch).  Only the columns
+    j0 <= j < j1 are swept (``j1 < 0``: all); every column outside is idle too (not listed in ``idle``).
+    ``sfx[b, j]`` receives the suffix maximum max_{i >= 8b} theta_ad[i, j] (``sfx[0]``: the column maximum).
+    The factored Thomas sweeps (eq. A.6-A.12) run row by row, each row's update vectorised across the columns.
     """
     nn, ncol = X.shape
+    j0 = max(j0, 0)
+    j1 = ncol if j1 < 0 else min(j1, ncol)
+    j1 = max(j1, j0)
+    if s1 < 0:
+        s1 = ncol
+    s0 = min(max(s0, j0), j1)  # the source columns, within the swept ones
+    s1 = max(min(s1, j1), s0)
     u0 = unit[0]
     for k in range(idle.shape[0]):
         j = idle[k]
@@ -110,42 +174,26 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
     for j in range(ncol):
         deposited[j] = 0.0
         clipped[j] = 0.0
-    # forward elimination (eq. A.6-A.8): the source rows, then the rest (separate loops vectorise)
-    ns = min(n_src, nn)
-    for i in range(ns):
-        m = mult[i]
-        u = unit[i]
+    qa, qs, qb = q[j0:s0], q[s0:s1], q[s1:j1]
+    # forward elimination (eq. A.6-A.8): the source rows, then the rest; the columns without a source
+    # take th + 0 factor = th
+    ns = min(n_src, nn) if s1 > s0 else 0
+    for i in range(max(ns, 1)):
         cur = X[i]
         prev = X[i - 1 if i > 0 else 0]
-        s = src[i]
-        w = weights[i]
-        for j in range(ncol):  # branch-free: an unclipped value adds w * 0 = 0 to clipped[j]
-            th = cur[j] + q[j] * u if lazy else cur[j]
-            p = s[j]
-            room = rho_c * (limit - th)
-            room = room if room > 0.0 else 0.0
-            kept = room if p > room else p
-            clipped[j] += w * (p - kept)
-            s[j] = kept
-            deposited[j] += w * kept
-            v = th + kept * factor
-            cur[j] = v - m * prev[j] if i > 0 else v
-    if ns == 0 and lazy:
-        cur = X[0]
-        u = unit[0]
-        for j in range(ncol):
-            cur[j] = cur[j] + q[j] * u
-    for i in range(max(ns, 1), nn):
+        u = unit[i]
         m = mult[i]
-        cur = X[i]
-        prev = X[i - 1]
-        if lazy:
-            u = unit[i]
-            for j in range(ncol):
-                cur[j] = (cur[j] + q[j] * u) - m * prev[j]
+        first = i == 0
+        if i < ns:
+            _source_row(cur[s0:s1], prev[s0:s1], qs, src[i][s0:s1], clipped[s0:s1], deposited[s0:s1], u, m,
+                        weights[i], rho_c, limit, factor, lazy, first)
+            _plain_row(cur[j0:s0], prev[j0:s0], qa, u, m, lazy, first)
+            _plain_row(cur[s1:j1], prev[s1:j1], qb, u, m, lazy, first)
         else:
-            for j in range(ncol):
-                cur[j] = cur[j] - m * prev[j]
+            _plain_row(cur[j0:j1], prev[j0:j1], q[j0:j1], u, m, lazy, first)
+    qj = q[j0:j1]
+    for i in range(max(ns, 1), nn):
+        _plain_row(X[i][j0:j1], X[i - 1][j0:j1], qj, unit[i], mult[i], lazy, False)
     # back substitution (eq. A.9-A.12) in blocks of 8 rows, then the block's suffix maxima
     nb = sfx.shape[0]
     for b in range(nb - 1, -1, -1):
@@ -153,27 +201,21 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
         i1 = min(i0 + 8, nn)
         for i in range(i1 - 1, i0 - 1, -1):
             cur = X[i]
-            ib = inv_bp[i]
-            if i == nn - 1:
-                for j in range(ncol):
-                    cur[j] = cur[j] * ib
-            else:
-                ci = c[i]
-                nxt = X[i + 1]
-                for j in range(ncol):
-                    cur[j] = (cur[j] - ci * nxt[j]) * ib
+            _back_row(cur[j0:j1], X[min(i + 1, nn - 1)][j0:j1], c[i], inv_bp[i], i == nn - 1)
             for k in range(idle.shape[0]):
                 cur[idle[k]] = idle_val[k]
-        top = sfx[b]
+        top = sfx[b][j0:j1]
         first = X[i1 - 1] if b == nb - 1 else sfx[b + 1]
-        for j in range(ncol):
-            top[j] = first[j]
+        top[:] = first[j0:j1]
         for i in range(i0, i1):
-            row = X[i]
-            for j in range(ncol):
-                a = top[j]
-                x = row[j]
-                top[j] = x if x > a else a
+            _max_row(top, X[i][j0:j1])
+    # the columns outside [j0, j1): idle, not swept (uniform, so every suffix maximum is theta(0))
+    for b in range(nb):
+        top = sfx[b]
+        for j in range(0, j0):
+            top[j] = X[0, j] + q[j] * u0 if lazy else X[0, j]
+        for j in range(j1, ncol):
+            top[j] = X[0, j] + q[j] * u0 if lazy else X[0, j]
 
 
 @njit(cache=True)
@@ -254,26 +296,47 @@ def extend_grid(z: np.ndarray, depth: float, ratio: float = 1.05) -> np.ndarray:
     return np.asarray(out)
 
 
-def control_weights(z: np.ndarray) -> np.ndarray:
+@njit(cache=True)
+def control_weights(z):
     """Control-volume widths w_i (trapezoid weights): sum_i w_i g_i is the trapezoid rule of g."""
-    dz = np.diff(z)
-    w = np.zeros(z.size)
-    w[:-1] += 0.5 * dz
-    w[1:] += 0.5 * dz
+    n = z.size
+    w = np.zeros(n)
+    for i in range(n - 1):
+        w[i] += 0.5 * (z[i + 1] - z[i])
+    for i in range(n - 1):
+        w[i + 1] += 0.5 * (z[i + 1] - z[i])
     return w
 
 
-def heat_matrix(z: np.ndarray, diffusivity: float, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+@njit(cache=True)
+def heat_matrix(z, diffusivity, dt):
     """Diagonals (a, b, c) of the backward-Euler matrix K (table 7.66 on a uniform grid)."""
-    dz = np.diff(z)
     w = control_weights(z)
     n = z.size
     a = np.zeros(n)
     c = np.zeros(n)
-    a[1:] = -diffusivity * dt / (w[1:] * dz)
-    c[:-1] = -diffusivity * dt / (w[:-1] * dz)
-    b = 1.0 - a - c
+    num = -diffusivity * dt
+    for i in range(n - 1):
+        dz = z[i + 1] - z[i]
+        a[i + 1] = num / (w[i + 1] * dz)
+        c[i] = num / (w[i] * dz)
+    b = np.empty(n)
+    for i in range(n):
+        b[i] = 1.0 - a[i] - c[i]
     return a, b, c
+
+
+@njit(cache=True)
+def factor_step(z, diffusivity, dt, rho_c):
+    """Everything a step of ``dt`` needs: the Thomas factors (mult, 1/b') and c of K, the unit-flux response
+    theta_unit = K^{-1} e_0 dt/(rho c w_0) (K m^2/W) and its maximum."""
+    a, b, c = heat_matrix(z, diffusivity, dt)
+    mult, inv_bp = thomas_factor(a, b, c)
+    rhs = np.zeros(z.size)
+    rhs[0] = dt / (rho_c * control_weights(z)[0])
+    unit = np.empty(z.size)
+    thomas_apply(mult, inv_bp, c, rhs, unit)
+    return mult, inv_bp, c, unit, unit.max()
 
 
 # --------------------------------------------------------------------------- the columns
@@ -353,15 +416,9 @@ class ThermalColumns:
             self.mult, self.inv_bp, self.c, self.theta_unit, self.unit_max = self._cache[dt]
             self.dt = dt
             return
-        a, b, c = heat_matrix(self.z, self.alpha, dt)
-        self.mult, self.inv_bp = thomas_factor(a, b, c)
-        self.c = c
-        rhs = np.zeros(self.n_nodes)
-        rhs[0] = dt / (self.rho_c * self.weights[0])
-        unit = np.empty(self.n_nodes)
-        thomas_apply(self.mult, self.inv_bp, c, rhs, unit)
+        self.mult, self.inv_bp, self.c, unit, unit_max = factor_step(self.z, self.alpha, dt, self.rho_c)
         self.theta_unit = unit  #: temperature rise per W/m^2 of interface flux over one step, K m^2/W
-        self.unit_max = float(unit.max())
+        self.unit_max = float(unit_max)
         self.dt = dt
         self.factorisations += 1
         if len(self._cache) >= self.CACHE_SIZE:
@@ -373,21 +430,40 @@ class ThermalColumns:
         act = self.active if extra is None else (self.active | extra)
         return np.flatnonzero(~act)
 
+    def _span(self, extra: np.ndarray | None = None, src_span: tuple[int, int] = (0, 0)) -> tuple[int, int, np.ndarray]:
+        """(j0, j1, idle): the columns j0 <= j < j1 span every column the sweep must visit (active or, with
+        ``extra``, with a source; and the columns of ``src_span``, whose source sums are booked even where the
+        source rounds to no temperature); ``idle`` lists the idle columns inside (those outside are all idle)."""
+        act = self.active if extra is None else (self.active | extra)
+        busy = np.flatnonzero(act)
+        j0, j1 = (int(busy[0]), int(busy[-1]) + 1) if busy.size else (self.n_columns, 0)
+        if src_span[1] > src_span[0]:
+            j0, j1 = min(j0, src_span[0]), max(j1, src_span[1])
+        if j1 <= j0:
+            return 0, 0, busy
+        return j0, j1, np.flatnonzero(~act[j0:j1]) + j0
+
     def advance(self, dt: float, src: np.ndarray | None = None, n_src: int = 0, factor: float = 1.0,
-                limit: float = math.inf, src_flags: np.ndarray | None = None) -> np.ndarray:
+                limit: float = math.inf, src_flags: np.ndarray | None = None,
+                src_span: tuple[int, int] | None = None) -> np.ndarray:
         """In place: the state becomes theta_ad (eq. 7.68), returned as (n_nodes, n_columns).
 
         ``src`` (n_nodes, n_columns), rows below ``n_src`` zero, is a source scaled by ``factor`` into
         kelvin (``src_flags[j]``: column j has one), clipped first to rho_c (limit - theta) (the clipped
         energy per column goes to ``self._clipped``, sum_i w_i src_kept to ``self._deposited``).
+        ``src_span = (s0, s1)``: ``src`` is zero outside the columns s0 <= j < s1 (default: anywhere).
         """
         self.prepare(dt)
         if src is None:
             src, n_src = self._no_src, 0
-        idle = self._idle(src_flags if n_src > 0 else None)
+        if n_src <= 0:
+            j0, j1, idle = self._span()
+        else:
+            j0, j1, idle = self._span(src_flags, (0, self.n_columns) if src_span is None else src_span)
+        s0, s1 = src_span if src_span is not None else (j0, j1)
         sweep_columns(self.X, self.q_lazy, self.unit_lazy, self.lazy, src, int(n_src), float(factor), self.rho_c,
                       float(limit), self.weights, self._clipped, self._deposited, self.mult, self.inv_bp, self.c,
-                      idle, self._idle_val, self._sfx)
+                      idle, self._idle_val, self._sfx, j0, j1, s0, s1)
         self.lazy = False
         self.col_max = self._sfx[0]
         return self.X

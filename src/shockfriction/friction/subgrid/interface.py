@@ -141,11 +141,12 @@ class SubgridInterface:
         self.xtol, self.max_iter = float(xtol), int(max_iter)
         n, nn = self.n_columns, self.columns.n_nodes
         self.eps_p = np.zeros((n, nn))
-        self._hard = np.ones((n, nn))  # (1 + beta eps_p)^n
-        self._hard_blk = np.ones((n, (nn + 7) // 8))  # min_{i >= 8b} _hard[j, i]: the plastic-front bound uses it
+        self._hard = np.ones((n, nn))  # (1 + beta eps_p)^n, or minus a lower bound of it where stale (lazy hardening)
+        self._hard_blk = np.ones((n, (nn + 7) // 8))  # min_{i >= 8b} |_hard[j, i]|: the plastic-front bound uses it
         # J/m^3, deposited next step (lagged source); (n_nodes, n_columns) like the temperatures it heats
         self._pending_plastic_heat = np.zeros((nn, n))
         self._pending_flags = np.zeros(n, dtype=np.bool_)  # column j has pending heat (a nonzero source)
+        self._pending_sum = np.zeros(n)  # sum_i w_i pending_ij (J/m^2), from finish_plastic_step
         self._deps = np.zeros((n, nn))
         self._depth = np.full(n, nn, dtype=np.int64)  # plastic-front bound: _deps[j, _depth[j]:] == 0
         self._pending_depth = np.zeros(n, dtype=np.int64)  # _pending_plastic_heat[_pending_depth[j]:, j] == 0
@@ -233,6 +234,8 @@ class SubgridInterface:
     @property
     def plastic_heat_pending(self) -> np.ndarray:
         """Plastic heat of the last step not yet deposited in the column (J/m^2)."""
+        if self.model == "thermoelastoplastic":
+            return self._pending_sum.copy()  # summed node by node as finish_plastic_step writes it
         return self.columns.weights @ self._pending_plastic_heat
 
     # ------------------------------------------------------------------ the step
@@ -266,8 +269,10 @@ class SubgridInterface:
         # absorb) is added to melt_energy.
         if plastic:
             pend = self._pending_plastic_heat
-            X = cols.advance(dt, pend, int(self._pending_depth.max()), 1.0 / cols.rho_c, T_F - MELT_MARGIN,
-                             self._pending_flags)
+            with_src = np.flatnonzero(self._pending_depth)  # the columns whose pending heat may be nonzero
+            n_src = int(self._pending_depth[with_src].max()) if with_src.size else 0
+            X = cols.advance(dt, pend, n_src, 1.0 / cols.rho_c, T_F - MELT_MARGIN, self._pending_flags,
+                             (int(with_src[0]), int(with_src[-1]) + 1) if with_src.size else (0, 0))
             self.melt_energy += cols._clipped
             deposited = cols._deposited  # J/m^2 put in this step
         else:
@@ -302,7 +307,8 @@ class SubgridInterface:
             finish_plastic_step(self.eps_p, self._deps, self._hard, self._hard_blk, self.scg, self._depth, tau,
                                 self.beta_Q * SQRT3,
                                 cols.weights, self._pending_plastic_heat, self._pending_depth,
-                                self.plastic_work, self.lag_temperature, cols.rho_c, self._pending_flags)
+                                self.plastic_work, self.lag_temperature, cols.rho_c, self._pending_flags,
+                                self._pending_sum)
             if not np.all(np.isfinite(self.plastic_work)):
                 j = int(np.argmax(~np.isfinite(self.plastic_work)))
                 raise SimulationError(f"sub-grid step {when}: node {j}: non-finite plastic strain increment "

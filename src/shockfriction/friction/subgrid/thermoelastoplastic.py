@@ -56,6 +56,13 @@ from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, 
 # n_nodes such increments, their integral / dt and the kinematic scaling all stay finite
 LOG_TARGET_MAX = 300.0
 TARGET_MAX = math.exp(LOG_TARGET_MAX)
+# Lazy hardening (plastic_increments): a stale node flows for sure when x^(1/n) > (1 + beta eps)(1 + LAZY_MARGIN).
+# With pow and 1/n within one ulp, that gives ln x - ln H >= n ln(1 + LAZY_MARGIN) - 1e-13 n - 2.3e-16 > 0 for
+# n >= LAZY_N_MIN (ln H <= 710); below it (or beta < 0) H is computed at every update, as before.
+LAZY_MARGIN = 1e-9
+LAZY_N_MIN = 1e-6
+# a stale entry holds -H_old (1 - STALE_SHRINK): below every later H (eps only grows, pow is within an ulp)
+STALE_SHRINK = 2.0 ** -50
 
 
 @njit(cache=True, inline="always")
@@ -65,15 +72,29 @@ def visited(q, depth, q_hi, nn):
 
 
 @njit(cache=True, inline="always")
+def lazy_hardening(p):
+    """Whether ``hard`` may hold stale entries (see :func:`plastic_increments`): beta >= 0 and n >= LAZY_N_MIN."""
+    n = p[I_N]
+    return p[I_BETA] >= 0.0 and LAZY_N_MIN <= n < math.inf
+
+
+@njit(cache=True, inline="always")
 def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out,
-                       depth=-1, q_hi=math.inf):
+                       scratch, depth=-1, q_hi=math.inf):
     """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit;
     return the trapezoid integral sum_i w_i d_eps_i, or -1 if some node has no strength left (G = 0).
 
-    ``hard`` = (1 + beta eps_prev)^n: a node flows iff sqrt(3) tau/(Y0 G/G0) > hard.  Nodes that
-    cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min,
+    ``hard[i]`` = H_i = (1 + beta eps_prev_i)^n: a node flows iff x = sqrt(3) tau/(Y0 G/G0) > H_i.  Nodes
+    that cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min,
     E_min the melt factor at an upper bound of the trial temperatures (ad_max + q unit_max, or the
     exact maximum near melting).
+
+    Lazy hardening: ``hard[i] < 0`` marks a stale entry (eps_prev_i grew since H_i was computed;
+    -hard[i] <= H_i is a lower bound, :func:`finish_plastic_step`).  Such a node flows for sure when
+    t = x^(1/n) > (1 + beta eps_prev_i)(1 + LAZY_MARGIN) and (1 + g F_N - h T) E_min x < sqrt(3) tau/Y0
+    (then x > H_i and the skip test above fails with H_i as well); t is the power that d_eps needs
+    anyway, so H_i is not formed.  Otherwise H_i is computed, stored, and the node is treated as
+    before: every d_eps is the one of the exact H_i, bit for bit.
 
     Near melting G -> 0 and x = sqrt(3) tau G0/(G Y0) -> inf, so x^(1/n) (n ~ 0.1) would overflow
     and the kinematic scaling would turn inf * 0 into NaN.  Where (1/n) ln x > LOG_TARGET_MAX the
@@ -83,6 +104,11 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     ``depth`` (>= 0) is a plastic-front bound from :func:`plastic_depth`: for 0 <= q <= ``q_hi``
     the nodes from ``depth`` on are proven elastic, so only ``out[:depth]`` is written (the
     caller keeps the rest zero).  Outside that range, or with ``depth < 0``, every node is visited.
+
+    The nodes are visited in three passes (``scratch``, (4, n_nodes), holds G/G0, x, x^(1/n) and the
+    linear strength bound between them): the exponentials, then the powers, then the decisions in node
+    order.  Each pass is a short loop whose iterations overlap in the processor (one pass of all three
+    chains did not); the values, the powers formed and the result are those of a single pass.
     """
     Y0, beta, n = p[I_Y0], p[I_BETA], p[I_N]
     g, h, xi, T_F = p[I_G], p[I_H], p[I_XI], p[I_TF]
@@ -106,20 +132,57 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     e_min = math.exp(-xi * th_max / (T_F - th_max))
     s = SQRT3 * tau / Y0
     lin0 = 1.0 + g * F_N + h * 300.0
+    x_big = math.exp(n * LOG_TARGET_MAX)  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
+    lazy = lazy_hardening(p)
+    rb, xb, tb, ab = scratch[0], scratch[1], scratch[2], scratch[3]
+    # pass 1: the skip test, and G/G0 (an exponential) where it fails (NaN: skipped; G/G0 is never NaN)
+    for i in range(m):
+        th = theta_ad[i] + q * theta_unit[i]
+        a = (lin0 - h * th) * e_min
+        ab[i] = a
+        hv = hard[i]
+        if a * (-hv if (lazy and hv < 0.0) else hv) >= s:
+            rb[i] = math.nan  # G/G0 * hardening already carries tau: elastic
+        else:
+            rb[i] = scg_shear_ratio(F_N, th, g, h, xi, T_F)
+    # pass 2: x and the power x^(1/n) where pass 3 needs it (-1: not formed)
+    for i in range(m):
+        r = rb[i]
+        t = -1.0
+        x = math.inf
+        if r > 0.0:
+            x = s / r
+            hv = hard[i]
+            if ((lazy and hv < 0.0) or not x <= hv) and x < x_big:
+                t = x ** (1.0 / n)
+        xb[i] = x
+        tb[i] = t
+    # pass 3: the decisions, in node order
     integral = 0.0
     for i in range(m):
         out[i] = 0.0
-        th = theta_ad[i] + q * theta_unit[i]
-        if (lin0 - h * th) * e_min * hard[i] >= s:
-            continue  # G/G0 * hardening already carries tau: elastic
-        r = scg_shear_ratio(F_N, th, g, h, xi, T_F)
+        r = rb[i]
+        if r != r:
+            continue
+        a = ab[i]
+        hv = hard[i]
+        x = xb[i]
+        t = tb[i]
+        sure = False  # x > H_i, known without H_i
+        if lazy and hv < 0.0:  # stale hardening: flows for sure, or form H_i
+            if t >= 0.0:
+                sure = t > (1.0 + beta * eps_prev[i]) * (1.0 + LAZY_MARGIN) and a * x < s
+            if not sure:
+                hv = (1.0 + beta * eps_prev[i]) ** n
+                hard[i] = hv
+                if a * hv >= s:
+                    continue
         if r <= 0.0:
             return -1.0
-        x = s / r
-        if x <= hard[i]:
+        if not sure and x <= hv:
             continue
-        if x < math.exp(n * LOG_TARGET_MAX):  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
-            d = (x ** (1.0 / n) - 1.0) / beta - eps_prev[i]
+        if x < x_big:
+            d = ((t if t >= 0.0 else x ** (1.0 / n)) - 1.0) / beta - eps_prev[i]
         else:
             d = TARGET_MAX / beta
         if d > 0.0:
@@ -151,7 +214,7 @@ def suffix_max(ad, blk, m):
 
 @njit(cache=True, inline="always")
 def suffix_min(values, blk, m):
-    """min_{i >= m} values[i] from the block suffix minima blk[b] = min_{i >= 8b} values[i] (m < len(values))."""
+    """min_{i >= m} |values[i]| from the block suffix minima blk[b] = min_{i >= 8b} |values[i]| (m < len(values))."""
     nn = values.shape[0]
     b = (m + 7) // 8
     e = 8 * b
@@ -161,21 +224,23 @@ def suffix_min(values, blk, m):
     else:
         e = nn
     for i in range(m, e):
-        if values[i] < low:
-            low = values[i]
+        v = abs(values[i])
+        if v < low:
+            low = v
     return low
 
 
 @njit(cache=True)
 def block_suffix_min(values, blk, top):
-    """blk[b] = min_{i >= 8b} values[i] for the blocks b <= top (those below already hold theirs)."""
+    """blk[b] = min_{i >= 8b} |values[i]| for the blocks b <= top (those below already hold theirs)."""
     nn = values.shape[0]
     nb = blk.shape[0]
     for b in range(min(top, nb - 1), -1, -1):
         low = blk[b + 1] if b + 1 < nb else math.inf
         for i in range(8 * b, min(8 * b + 8, nn)):
-            if values[i] < low:
-                low = values[i]
+            v = abs(values[i])
+            if v < low:
+                low = v
         blk[b] = low
 
 
@@ -204,11 +269,13 @@ def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_bl
     """
     nn = ad.shape[0]
     Y0, g, h, xi, T_F = p[I_Y0], p[I_G], p[I_H], p[I_XI], p[I_TF]
-    if not (h >= 0.0 and xi >= 0.0 and math.isfinite(q_hi) and q_hi >= 0.0 and tau_max >= 0.0):
+    if not (h >= 0.0 and xi >= 0.0 and p[I_BETA] >= 0.0 and math.isfinite(q_hi) and q_hi >= 0.0
+            and tau_max >= 0.0):
         return nn
     s = SQRT3 * tau_max / Y0 * (1.0 + FRONT_MARGIN)
     lo, hi = 0, nn  # the answer lies in [lo, hi]; m = nn always holds
-    if 0 <= guess < nn:
+    guess = min(guess, nn - 1)  # a last bound of nn: try nn - 1 first (a column yielding to depth stays there)
+    if 0 <= guess:
         step = 1
         if _front_ok(guess, s, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_blk, g, h, xi, T_F):
             hi = guess
@@ -240,15 +307,21 @@ def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_bl
 
 @njit(cache=True)
 def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, weights, pending, pending_depth,
-                        plastic_work, lag, rho_c, flags):
+                        plastic_work, lag, rho_c, flags, pending_sum):
     """After the accepted solve, one pass over the yielded layer of every column (nodes below depth[j]):
-    eps += deps, hard = (1 + beta eps)^n (and hard_blk, its block suffix minima); plastic work += sqrt(3) tau
-    sum_i w_i d_eps_i; pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3),
-    deposited next step, eq. 8.46), zero below; lag = max pending/(rho c); flags[j] = some pending
-    heat of column j is a nonzero temperature.  ``pending`` is (n_nodes, n_columns), the rest per column;
+    eps += deps, hard = (1 + beta eps)^n (and hard_blk, its block suffix minima of |hard|); plastic work +=
+    sqrt(3) tau sum_i w_i d_eps_i; pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3),
+    deposited next step, eq. 8.46), zero below; pending_sum = sum_i w_i pending_i (J/m^2); lag = max pending/(rho c);
+    flags[j] = some pending heat of column j is a nonzero temperature.  ``pending`` is (n_nodes, n_columns), the
+    rest per column;
     ``pending_depth[j]`` (in/out) bounds the nonzero pending heat of each column (n_nodes is always safe).
+
+    Lazy hardening (:func:`lazy_hardening`): the power is not formed here; a yielded node's entry becomes
+    stale, -H_old (1 - STALE_SHRINK) (a lower bound of the new H), and :func:`plastic_increments` forms H
+    only where it is needed.
     """
     beta, n = p[I_BETA], p[I_N]
+    lazy = lazy_hardening(p)
     nn = eps.shape[1]
     inv_rho_c = 1.0 / rho_c
     for j in range(eps.shape[0]):
@@ -256,6 +329,7 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
         old = pending_depth[j] if 0 <= pending_depth[j] <= nn else nn
         c = heat_factor * tau[j]
         work = 0.0
+        heat = 0.0
         top = 0.0
         flag = False
         top_changed = -1  # deepest node whose hardening changed
@@ -264,11 +338,16 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
             if d > 0.0:
                 e = eps[j, i] + d
                 eps[j, i] = e
-                hard[j, i] = (1.0 + beta * e) ** n
-                top_changed = i
+                if not lazy:
+                    hard[j, i] = (1.0 + beta * e) ** n
+                    top_changed = i
+                elif hard[j, i] >= 0.0:  # becomes stale: its lower bound shrinks
+                    hard[j, i] = -hard[j, i] * (1.0 - STALE_SHRINK)
+                    top_changed = i
             work += weights[i] * d
             h = c * d
             pending[i, j] = h
+            heat += weights[i] * h
             if h * inv_rho_c != 0.0:
                 flag = True
             if h > top:
@@ -280,19 +359,20 @@ def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, w
         pending_depth[j] = m
         flags[j] = flag
         plastic_work[j] += SQRT3 * tau[j] * work
+        pending_sum[j] = heat
         lag[j] = top / rho_c
 
 
 @njit(cache=True, inline="always")
 def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, unit_max, F_N, v_free, v_prev,
-              k, tau_cap, beta_T, f, p, dt, deps, depth, q_hi):
+              k, tau_cap, beta_T, f, p, dt, deps, depth, q_hi, scratch):
     """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate)."""
     tau = friction_stress(F_N, theta, tau_cap, f, p)
     vh = corrected_slip(v_free, tau, k)
     v_mac = abs(0.5 * (vh + v_prev))
     q = (theta - theta_ad[0]) / a0
     integral = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max,
-                                  p, deps, depth, q_hi)
+                                  p, deps, scratch, depth, q_hi)
     if integral >= 0.0:
         rate = SQRT3 * integral / dt
         if rate > v_mac:  # kinematic limit: the layer takes at most the macroscopic slip of the step
@@ -329,14 +409,15 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     nn = theta_unit.shape[0]
     _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
-                   status, depth, use_front, np.empty(BRENT_STATE), np.empty(nn))
+                   status, depth, use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)))
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
-                   status, depth, use_front, st, unit_sfx):
-    """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes)."""
+                   status, depth, use_front, st, unit_sfx, scratch):
+    """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes,
+    ``scratch`` (4, n_nodes) for :func:`plastic_increments`)."""
     T_F = p[I_TF]
     a0 = theta_unit[0]
     nn = theta_unit.shape[0]
@@ -399,7 +480,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
         # the last evaluation (point, results; its d_eps are in drow): reused when it is the accepted point
         r_lo, t, vh, vl, rate = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
                                           F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
-                                          m, q_hi)
+                                          m, q_hi, scratch)
         x = lo
         x_last = lo
         if r_lo < 0.0:
@@ -413,7 +494,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
                     break
                 r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
                                                F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt,
-                                               drow, m, q_hi)
+                                               drow, m, q_hi, scratch)
                 x_last = x
                 brent_feed(st, r)
                 iters[j] = it + 1
@@ -423,7 +504,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
         if x != x_last:  # _evaluate is deterministic: the same point gives the same state
             r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
                                            F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
-                                           m, q_hi)
+                                           m, q_hi, scratch)
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
             status[j] = ABOVE_MELT
         theta_s[j] = x
