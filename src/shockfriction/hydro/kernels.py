@@ -20,7 +20,10 @@ two passes over the cells and two over the nodes (docs/theory/fused-cycle.md).
   artificial viscosity q^{n+1/2}, energy update with the EOS, spall, temperature, moduli,
   sound speed and the cell's stable time step, reduced to the step of the cycle.
 * :func:`velocities_serial` (steps 1-3 without interfaces), :func:`advance_serial` (positions and
-  cells), :func:`cycle_serial` (both): the serial kernels above in fewer calls.
+  cells), :func:`cycle_serial` (both): the serial kernels above in fewer calls.  In plane strain
+  with the bulk q (``axi`` and ``qedge`` false) they pass both flags as the constant False: numba
+  types a constant argument as a literal and compiles that case apart, so LLVM drops the dead
+  axisymmetric and edge-viscosity code (and the copies its branches cost), the same arithmetic.
 
 The serial and parallel variants are the same Python function compiled twice
 (``prange`` is ``range`` without ``parallel=True``); per-cell helpers take and return
@@ -162,26 +165,9 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
         if area > 0.0:
             inva = 1.0 / area
             sqa = math.sqrt(area)
-        ptot = p[c] + q[c]
         s_xx = sxx[c]
         s_yy = syy[c]
         a_xy = sxy[c]
-        a_xx = s_xx - ptot
-        a_yy = s_yy - ptot
-        a_tt = -(s_xx + s_yy) - ptot
-        f0 = -(a_xx * bx0 + a_xy * by0)
-        f1 = -(a_xx * bx1 + a_xy * by1)
-        f2 = -(a_xx * bx2 + a_xy * by2)
-        f3 = -(a_xx * bx3 + a_xy * by3)
-        if axi:  # the hoop stress on h_i (0 in plane strain): -(a + b + c) = -(a + b) - c exactly
-            f0 -= a_tt * h0
-            f1 -= a_tt * h1
-            f2 -= a_tt * h2
-            f3 -= a_tt * h3
-        g0 = -(a_xy * bx0 + a_yy * by0)
-        g1 = -(a_xy * bx1 + a_yy * by1)
-        g2 = -(a_xy * bx2 + a_yy * by2)
-        g3 = -(a_xy * bx3 + a_yy * by3)
         # velocity-dependent (viscous) corner forces
         vf0 = vf1 = vf2 = vf3 = 0.0
         vg0 = vg1 = vg2 = vg3 = 0.0
@@ -230,6 +216,32 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
             vg3 += ey
             vf0 -= ex
             vg0 -= ey
+        on = False
+        sf0 = sf1 = sf2 = sf3 = sg0 = sg1 = sg2 = sg3 = 0.0
+        if svisc:
+            invv = (1.0 / vol if vol > 0.0 else 1.0) if axi else inva
+            on, sf0, sf1, sf2, sf3, sg0, sg1, sg2, sg3 = shear_viscosity_forces(
+                shear[c], rho[c], s_xx, s_yy, a_xy, yld[c], elastic_only, scl, scq, area, vol, invv, sqa,
+                (bx0, bx1, bx2, bx3), (by0, by1, by2, by3), (h0, h1, h2, h3), (u0, u1, u2, u3), (w0, w1, w2, w3))
+        # stress corner forces -sigma^n . b_i, computed last (shorter live ranges), then
+        # (stress + hourglass/edge) + shear viscosity, the order of the sums as before
+        ptot = p[c] + q[c]
+        a_xx = s_xx - ptot
+        a_yy = s_yy - ptot
+        f0 = -(a_xx * bx0 + a_xy * by0)
+        f1 = -(a_xx * bx1 + a_xy * by1)
+        f2 = -(a_xx * bx2 + a_xy * by2)
+        f3 = -(a_xx * bx3 + a_xy * by3)
+        if axi:  # the hoop stress on h_i (0 in plane strain): -(a + b + c) = -(a + b) - c exactly
+            a_tt = -(s_xx + s_yy) - ptot
+            f0 -= a_tt * h0
+            f1 -= a_tt * h1
+            f2 -= a_tt * h2
+            f3 -= a_tt * h3
+        g0 = -(a_xy * bx0 + a_yy * by0)
+        g1 = -(a_xy * bx1 + a_yy * by1)
+        g2 = -(a_xy * bx2 + a_yy * by2)
+        g3 = -(a_xy * bx3 + a_yy * by3)
         f0 += vf0
         f1 += vf1
         f2 += vf2
@@ -238,28 +250,23 @@ def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
         g1 += vg1
         g2 += vg2
         g3 += vg3
-        if svisc:
-            invv = (1.0 / vol if vol > 0.0 else 1.0) if axi else inva
-            on, sf0, sf1, sf2, sf3, sg0, sg1, sg2, sg3 = shear_viscosity_forces(
-                shear[c], rho[c], s_xx, s_yy, a_xy, yld[c], elastic_only, scl, scq, area, vol, invv, sqa,
-                (bx0, bx1, bx2, bx3), (by0, by1, by2, by3), (h0, h1, h2, h3), (u0, u1, u2, u3), (w0, w1, w2, w3))
-            if on:
-                f0 += sf0
-                f1 += sf1
-                f2 += sf2
-                f3 += sf3
-                g0 += sg0
-                g1 += sg1
-                g2 += sg2
-                g3 += sg3
-                vf0 += sf0
-                vf1 += sf1
-                vf2 += sf2
-                vf3 += sf3
-                vg0 += sg0
-                vg1 += sg1
-                vg2 += sg2
-                vg3 += sg3
+        if on:
+            f0 += sf0
+            f1 += sf1
+            f2 += sf2
+            f3 += sf3
+            g0 += sg0
+            g1 += sg1
+            g2 += sg2
+            g3 += sg3
+            vf0 += sf0
+            vf1 += sf1
+            vf2 += sf2
+            vf3 += sf3
+            vg0 += sg0
+            vg1 += sg1
+            vg2 += sg2
+            vg3 += sg3
         vcorner[c, 0] = vf0
         vcorner[c, 1] = vf1
         vcorner[c, 2] = vf2
@@ -828,8 +835,12 @@ def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
     constraints) and, with ``record``, :func:`kinetic_energy_product`, in the order of
     ``Simulation._velocity_stage``.  Returns (internal energy at t^n if ``record``, boundary work,
     leapfrog kinetic energy at t^n if ``record``)."""
-    ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
-                            svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
+    if axi or qedge:
+        ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
+                                svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
+    else:  # plane strain, bulk q: the flags as constants (module docstring)
+        ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, False, cq, cl,
+                                svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
     if grp_ptr.shape[0] > 1:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
     # v* is needed only where the constraints act (their jumps v - v*): kept on bc_nodes alone
@@ -856,9 +867,14 @@ def advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, v
     """Steps 5-6 in one call: :func:`move_nodes` (x^n kept in x_old, y_old), then
     :func:`update_cells_serial` (same arguments and result)."""
     move_nodes(x, y, vx, vy, dt, x_old, y_old)
+    if axi or qedge:
+        return update_cells_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
+                                   q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
+                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
+    # plane strain, bulk q: the flags as constants (module docstring)
     return update_cells_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
-                               sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
-                               errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
+                               sxx, syy, sxy, eps_p, temp, shear, yld, cs, False, dt, cq, cl, cfl, dvmax, dtcell,
+                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
 
 
 @njit(cache=True, **NO_REFCOUNT)
