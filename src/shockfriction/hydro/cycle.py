@@ -98,8 +98,8 @@ class Simulation:
         self.parallel = self.threads > 1
         s = self.state
         nn, nc = s.n_nodes, s.n_cells
-        self._x_old = np.empty(nn)
-        self._y_old = np.empty(nn)
+        self._x_half = np.empty(nn)
+        self._y_half = np.empty(nn)
         self._vx_old = np.empty(nn)
         self._vy_old = np.empty(nn)
         self._vx_free = np.empty(nn)
@@ -327,7 +327,7 @@ class Simulation:
             s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl, self.shear_visc,
             *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass, record,
             *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre, self._vy_pre, s.mass_own,
-            *self._cons, self._bc_nodes, self._jx_bc_prev, self._jy_bc_prev, dt, self._x_old, self._y_old, s.mat,
+            *self._cons, self._bc_nodes, self._jx_bc_prev, self._jy_bc_prev, dt, self._x_half, self._y_half, s.mat,
             s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl,
             self.dvmax, s.damage, *self._scratch)
         en = s.energy
@@ -365,11 +365,11 @@ class Simulation:
         dt = s.dt
         # 5 positions
         if self.parallel:
-            K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_old, self._y_old)
+            K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
         # 6 cells (serial: 5 and 6 in one call)
         update = K.update_cells_parallel if self.parallel else K.advance_serial
         dtn, bad, code, qv = update(
-            s.conn, self._x_old, self._y_old, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+            s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
             s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
             s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
             self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,

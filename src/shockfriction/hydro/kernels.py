@@ -446,15 +446,18 @@ def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre,
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def move_nodes(x, y, vx, vy, dt, x_old, y_old):
-    """Keep x^n in (x_old, y_old) and set x^{n+1} = x^n + dt v^{n+1/2}."""
+def move_nodes(x, y, vx, vy, dt, x_half, y_half):
+    """x^{n+1} = x^n + dt v^{n+1/2}, and the mid-step positions x^{n+1/2} = (x^n + x^{n+1})/2 into
+    (x_half, y_half) for the cell update (once per node, not per corner)."""
     for n in range(x.shape[0]):
         u = x[n]
         w = y[n]
-        x_old[n] = u
-        y_old[n] = w
-        x[n] = u + dt * vx[n]
-        y[n] = w + dt * vy[n]
+        u1 = u + dt * vx[n]
+        w1 = w + dt * vy[n]
+        x[n] = u1
+        y[n] = w1
+        x_half[n] = 0.5 * (u + u1)
+        y_half[n] = 0.5 * (w + w1)
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -494,7 +497,7 @@ def internal_energy(e, e_el, cmass):
 
 # --------------------------------------------------------------------------- cells
 
-def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
+def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
                        qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
     """The cycle's cell pass (step 6): advance every cell from t^n to t^{n+1}.
@@ -506,6 +509,7 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
     :func:`viscous_heat_serial` does on history cycles: :func:`viscous_cell_heat`).
     With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here).
     ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py).
+    (xha, yha): the mid-step node positions x^{n+1/2} (:func:`move_nodes`), (x1a, y1a): x^{n+1}.
     Returns (min stable dt, first bad cell or -1, its error code, the viscous heat put in);
     errcell[c] holds the code of a bad cell (only bad cells are written).
 
@@ -568,14 +572,14 @@ def _update_cells_impl(conn, x0a, y0a, x1a, y1a, vx, vy, mat, props, table, cmas
             bad = min(bad, c)
             continue
         # ---- geometry at n+1/2 and strain rate
-        xh0 = 0.5 * (x0a[n0] + xa0)
-        xh1 = 0.5 * (x0a[n1] + xa1)
-        xh2 = 0.5 * (x0a[n2] + xa2)
-        xh3 = 0.5 * (x0a[n3] + xa3)
-        yh0 = 0.5 * (y0a[n0] + ya0)
-        yh1 = 0.5 * (y0a[n1] + ya1)
-        yh2 = 0.5 * (y0a[n2] + ya2)
-        yh3 = 0.5 * (y0a[n3] + ya3)
+        xh0 = xha[n0]
+        xh1 = xha[n1]
+        xh2 = xha[n2]
+        xh3 = xha[n3]
+        yh0 = yha[n0]
+        yh1 = yha[n1]
+        yh2 = yha[n2]
+        yh3 = yha[n3]
         if axi:
             bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, vh = bvec_axi(xh0, xh1, xh2, xh3,
                                                                                   yh0, yh1, yh2, yh3)
@@ -861,18 +865,18 @@ def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+def advance_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                    sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
                    heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
-    """Steps 5-6 in one call: :func:`move_nodes` (x^n kept in x_old, y_old), then
+    """Steps 5-6 in one call: :func:`move_nodes` (x^{n+1/2} into x_half, y_half), then
     :func:`update_cells_serial` (same arguments and result)."""
-    move_nodes(x, y, vx, vy, dt, x_old, y_old)
+    move_nodes(x, y, vx, vy, dt, x_half, y_half)
     if axi or qedge:
-        return update_cells_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
+        return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
                                    q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
                                    errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
     # plane strain, bulk q: the flags as constants (module docstring)
-    return update_cells_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
+    return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                                sxx, syy, sxy, eps_p, temp, shear, yld, cs, False, dt, cq, cl, cfl, dvmax, dtcell,
                                errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
 
@@ -881,7 +885,7 @@ def advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, v
 def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                  scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
                  vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev, jy_prev, dt,
-                 x_old, y_old, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work, mrec):
+                 x_half, y_half, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work, mrec):
     """One whole serial cycle without interfaces, the viscous heat in the cell update (no history row
     with probes or observers this cycle): :func:`velocities_serial` then :func:`advance_serial`, one
     call instead of seven.  Returns (internal energy at t^n (``record``), boundary work, leapfrog
@@ -890,7 +894,7 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
                                     cl, svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record,
                                     grp_ptr, grp_nodes, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode,
                                     cnx, cny, cval, bc_nodes, jx_prev, jy_prev)
-    dtn, bad, code, qv = advance_serial(conn, x_old, y_old, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el,
+    dtn, bad, code, qv = advance_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el,
                                         p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
                                         dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old, dtv, work,
                                         mrec)
