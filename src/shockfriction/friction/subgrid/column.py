@@ -453,11 +453,6 @@ class ThermalColumns:
             self._cache.pop(next(iter(self._cache)))
         self._cache[dt] = (self.mult, self.inv_bp, self.c, self.theta_unit, self.unit_max)
 
-    def _idle(self, extra: np.ndarray | None = None) -> np.ndarray:
-        """Indices of the columns that the sweep leaves as they are (inactive and, with ``extra``, no source)."""
-        act = self.active if extra is None else (self.active | extra)
-        return np.flatnonzero(~act)
-
     def _span(self, extra: np.ndarray | None = None, src_span: tuple[int, int] = (0, 0)) -> tuple[int, int, np.ndarray]:
         """(j0, j1, idle): the columns j0 <= j < j1 span every column the sweep must visit (active or, with
         ``extra``, with a source; and the columns of ``src_span``, whose source sums are booked even where the
@@ -519,9 +514,10 @@ class ThermalColumns:
             n_src = src.shape[0]
             flags = np.any(src * factor != 0.0, axis=0)
         scratch = np.empty(self.n_columns)  # the state's own sums and maxima are left alone
+        j0, j1, idle = self._span(flags)
         sweep_columns(out, self.q_lazy, self.unit_lazy, self.lazy, src, n_src, factor, self.rho_c, math.inf,
                       self.weights, scratch, scratch.copy(), self.mult, self.inv_bp, self.c,
-                      self._idle(flags), self._idle_val, np.empty_like(self._sfx))
+                      idle, self._idle_val, np.empty_like(self._sfx), j0, j1)
         return out.T
 
     def affine(self, theta_ad: np.ndarray, q_in: np.ndarray) -> np.ndarray:
