@@ -219,6 +219,34 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
 
 
 @njit(cache=True)
+def busy_span(active, extra, s0, s1):
+    """(j0, j1, idle) of :meth:`ThermalColumns._span`: [j0, j1) spans the busy columns (active[j] or extra[j]) and
+    the columns s0 <= j < s1; ``idle`` lists the columns inside that are not busy; (0, 0, empty) when none."""
+    ncol = active.shape[0]
+    j0, j1 = ncol, 0
+    for j in range(ncol):
+        if active[j] or extra[j]:
+            if j < j0:
+                j0 = j
+            j1 = j + 1
+    if s1 > s0:
+        j0, j1 = min(j0, s0), max(j1, s1)
+    if j1 <= j0:
+        return 0, 0, np.empty(0, dtype=np.int64)
+    n_idle = 0
+    for j in range(j0, j1):
+        if not (active[j] or extra[j]):
+            n_idle += 1
+    idle = np.empty(n_idle, dtype=np.int64)
+    k = 0
+    for j in range(j0, j1):
+        if not (active[j] or extra[j]):
+            idle[k] = j
+            k += 1
+    return j0, j1, idle
+
+
+@njit(cache=True)
 def melt_check(X, q, unit, unit_max, col_max, limit):
     """First flat index j n_nodes + i of theta = X[i, j] + q[j] unit[i] (eq. 7.70) that is not below
     ``limit``, else -1.  A column is scanned only when its bound col_max[j] + q[j] unit_max is not below
@@ -425,23 +453,11 @@ class ThermalColumns:
             self._cache.pop(next(iter(self._cache)))
         self._cache[dt] = (self.mult, self.inv_bp, self.c, self.theta_unit, self.unit_max)
 
-    def _idle(self, extra: np.ndarray | None = None) -> np.ndarray:
-        """Indices of the columns that the sweep leaves as they are (inactive and, with ``extra``, no source)."""
-        act = self.active if extra is None else (self.active | extra)
-        return np.flatnonzero(~act)
-
     def _span(self, extra: np.ndarray | None = None, src_span: tuple[int, int] = (0, 0)) -> tuple[int, int, np.ndarray]:
         """(j0, j1, idle): the columns j0 <= j < j1 span every column the sweep must visit (active or, with
         ``extra``, with a source; and the columns of ``src_span``, whose source sums are booked even where the
         source rounds to no temperature); ``idle`` lists the idle columns inside (those outside are all idle)."""
-        act = self.active if extra is None else (self.active | extra)
-        busy = np.flatnonzero(act)
-        j0, j1 = (int(busy[0]), int(busy[-1]) + 1) if busy.size else (self.n_columns, 0)
-        if src_span[1] > src_span[0]:
-            j0, j1 = min(j0, src_span[0]), max(j1, src_span[1])
-        if j1 <= j0:
-            return 0, 0, busy
-        return j0, j1, np.flatnonzero(~act[j0:j1]) + j0
+        return busy_span(self.active, self.active if extra is None else extra, src_span[0], src_span[1])
 
     def advance(self, dt: float, src: np.ndarray | None = None, n_src: int = 0, factor: float = 1.0,
                 limit: float = math.inf, src_flags: np.ndarray | None = None,
@@ -498,9 +514,10 @@ class ThermalColumns:
             n_src = src.shape[0]
             flags = np.any(src * factor != 0.0, axis=0)
         scratch = np.empty(self.n_columns)  # the state's own sums and maxima are left alone
+        j0, j1, idle = self._span(flags)
         sweep_columns(out, self.q_lazy, self.unit_lazy, self.lazy, src, n_src, factor, self.rho_c, math.inf,
                       self.weights, scratch, scratch.copy(), self.mult, self.inv_bp, self.c,
-                      self._idle(flags), self._idle_val, np.empty_like(self._sfx))
+                      idle, self._idle_val, np.empty_like(self._sfx), j0, j1)
         return out.T
 
     def affine(self, theta_ad: np.ndarray, q_in: np.ndarray) -> np.ndarray:

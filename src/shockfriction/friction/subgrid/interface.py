@@ -78,9 +78,10 @@ import numpy as np
 from shockfriction.errors import SimulationError
 from shockfriction.friction.subgrid.column import ThermalColumns
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
-                                                           book_step, first_nonfinite, solve_thermoelastic,
+                                                           book_step, first_nonfinite, first_nonzero,
+                                                           solve_thermoelastic,
                                                            step_inputs)
-from shockfriction.friction.subgrid.thermoelastoplastic import finish_plastic_step, solve_thermoelastoplastic
+from shockfriction.friction.subgrid.thermoelastoplastic import solve_thermoelastoplastic, source_span
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
@@ -138,6 +139,7 @@ class SubgridInterface:
         self.model = model
         self.mu0, self.f, self.beta_Q = float(mu0), float(f), float(taylor_quinney)
         self.scg = m.scg_params()
+        self._T_F = float(T_F)
         self.xtol, self.max_iter = float(xtol), int(max_iter)
         n, nn = self.n_columns, self.columns.n_nodes
         self.eps_p = np.zeros((n, nn))
@@ -146,7 +148,7 @@ class SubgridInterface:
         # J/m^3, deposited next step (lagged source); (n_nodes, n_columns) like the temperatures it heats
         self._pending_plastic_heat = np.zeros((nn, n))
         self._pending_flags = np.zeros(n, dtype=np.bool_)  # column j has pending heat (a nonzero source)
-        self._pending_sum = np.zeros(n)  # sum_i w_i pending_ij (J/m^2), from finish_plastic_step
+        self._pending_sum = np.zeros(n)  # sum_i w_i pending_ij (J/m^2), from finish_column
         self._deps = np.zeros((n, nn))
         self._depth = np.full(n, nn, dtype=np.int64)  # plastic-front bound: _deps[j, _depth[j]:] == 0
         self._pending_depth = np.zeros(n, dtype=np.int64)  # _pending_plastic_heat[_pending_depth[j]:, j] == 0
@@ -188,7 +190,7 @@ class SubgridInterface:
         tau, v_half = c.step(F_N, vf, vp, k, tau_cap, dt)
         if c.status.any():
             j = int(np.argmax(c.status != 0))
-            raise SimulationError(f"sub-grid step {when}: node {j}: the viscoplastic column solve failed "
+            raise SimulationError(f"sub-grid step {self._when(*when)}: node {j}: the viscoplastic column solve failed "
                                   f"(status {int(c.status[j])}, theta(0) = {c.T[0, j]!r} K)")
         self.tau[:] = tau
         self.theta_interface[:] = c.T[0]
@@ -235,7 +237,7 @@ class SubgridInterface:
     def plastic_heat_pending(self) -> np.ndarray:
         """Plastic heat of the last step not yet deposited in the column (J/m^2)."""
         if self.model == "thermoelastoplastic":
-            return self._pending_sum.copy()  # summed node by node as finish_plastic_step writes it
+            return self._pending_sum.copy()  # summed node by node as finish_column writes it
         return self.columns.weights @ self._pending_plastic_heat
 
     # ------------------------------------------------------------------ the step
@@ -254,13 +256,13 @@ class SubgridInterface:
                                   f"sigma_n={float(sig[j]):.6g} Pa, "
                                   f"v_free={float(vf[j]):.6g} m/s, slip_prev={float(vp[j]):.6g} m/s, "
                                   f"m_slave={float(ms[j]):.6g}, m_guide={float(mg[j]):.6g}, area={float(S[j]):.6g}")
-        when = self._when(cycle, time)
+        when = (cycle, time)  # formatted only in a message
         if self.model == "viscoplastic":
             return self._step_viscoplastic(F_N, vf, vp, k, tau_cap, dt, when)
 
         plastic = self.model == "thermoelastoplastic"
         cols = self.columns
-        T_F = self.material.melting_temperature
+        T_F = self._T_F
         # Melt guard (thermoelastoplastic): the plastic heat of step n is deposited in step n + 1 (eq. 8.46);
         # near melting that deposit alone can carry a node past T_F, where the model has no state (strength
         # and friction vanish, no latent heat).  By the maximum principle of the backward-Euler solve,
@@ -269,10 +271,8 @@ class SubgridInterface:
         # absorb) is added to melt_energy.
         if plastic:
             pend = self._pending_plastic_heat
-            with_src = np.flatnonzero(self._pending_depth)  # the columns whose pending heat may be nonzero
-            n_src = int(self._pending_depth[with_src].max()) if with_src.size else 0
-            X = cols.advance(dt, pend, n_src, 1.0 / cols.rho_c, T_F - MELT_MARGIN, self._pending_flags,
-                             (int(with_src[0]), int(with_src[-1]) + 1) if with_src.size else (0, 0))
+            s0, s1, n_src = source_span(self._pending_depth)  # the columns whose pending heat may be nonzero
+            X = cols.advance(dt, pend, n_src, 1.0 / cols.rho_c, T_F - MELT_MARGIN, self._pending_flags, (s0, s1))
             self.melt_energy += cols._clipped
             deposited = cols._deposited  # J/m^2 put in this step
         else:
@@ -291,27 +291,25 @@ class SubgridInterface:
                                       np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T,
                                       self.f, self.scg, dt, self.xtol, self.max_iter, self._theta_s, tau,
                                       self._v_half, self.slip_local, self.slip_plastic, q_in, self._deps,
-                                      self.iterations, self._status, self._depth, self._use_front)
+                                      self.iterations, self._status, self._depth, self.beta_Q * SQRT3,
+                                      self._pending_plastic_heat, self._pending_depth, self.plastic_work,
+                                      self.lag_temperature, cols.rho_c, self._pending_flags, self._pending_sum,
+                                      self._use_front)
         self._check(when)
         self._check_finite(when, plastic)
         cols.set_flux(q_in)  # theta = theta_ad + q_in theta_unit (eq. 7.70), applied by the next sweep
         bad = cols.melt_index(T_F)
         if bad >= 0:
             j, i = divmod(int(bad), cols.n_nodes)
-            raise SimulationError(f"sub-grid step {when}: column {j} reached {X[i, j] + q_in[j] * unit[i]!r} K at "
+            raise SimulationError(f"sub-grid step {self._when(*when)}: column {j} reached {X[i, j] + q_in[j] * unit[i]!r} K at "
                                   f"z = {self.z[i]:.3e} m (melting {T_F} K)")
         book_step(X[0], unit[0], q_in, tau, self._v_half, vp, dt, deposited if plastic else q_in, plastic, cols.active,
                   self.theta_interface, self.slip_macro, self.friction_work, self.heat_interface, self.heat_plastic)
         v_half = self._v_half.copy()
-        if plastic:
-            finish_plastic_step(self.eps_p, self._deps, self._hard, self._hard_blk, self.scg, self._depth, tau,
-                                self.beta_Q * SQRT3,
-                                cols.weights, self._pending_plastic_heat, self._pending_depth,
-                                self.plastic_work, self.lag_temperature, cols.rho_c, self._pending_flags,
-                                self._pending_sum)
-            if not np.all(np.isfinite(self.plastic_work)):
-                j = int(np.argmax(~np.isfinite(self.plastic_work)))
-                raise SimulationError(f"sub-grid step {when}: node {j}: non-finite plastic strain increment "
+        if plastic:  # the solve has finished each column's plastic step (eps, hardening, work, pending heat)
+            k, j = first_nonfinite((self.plastic_work,))
+            if k >= 0:
+                raise SimulationError(f"sub-grid step {self._when(*when)}: node {j}: non-finite plastic strain increment "
                                       f"(interface {self.theta_interface[j]!r} K, tau = {tau[j]!r} Pa)")
         return tau.copy(), v_half
 
@@ -325,23 +323,23 @@ class SubgridInterface:
             parts.append(f"t = {time:.6e} s")
         return "(" + ", ".join(parts) + ")" if parts else ""
 
-    def _check_finite(self, when: str, plastic: bool) -> None:
+    def _check_finite(self, when: tuple, plastic: bool) -> None:
         """A step whose accepted state is not finite fails here, in that step (not as bad input in the next)."""
         vals = (self._theta_s, self.tau, self._v_half, self.slip_local, self.flux_in, self.slip_plastic)
         k, j = first_nonfinite(vals if plastic else vals[:5])
         if k >= 0:
-            raise SimulationError(f"sub-grid step {when}: node {j}: the interface solve returned a non-finite "
+            raise SimulationError(f"sub-grid step {self._when(*when)}: node {j}: the interface solve returned a non-finite "
                                   f"state (interface {self._theta_s[j]!r} K, tau = {self.tau[j]!r} Pa, "
                                   f"local slip {self.slip_local[j]!r} m/s, plastic slip "
                                   f"{self.slip_plastic[j]!r} m/s)")
 
-    def _check(self, when: str) -> None:
+    def _check(self, when: tuple) -> None:
         st = self._status
-        if not st.any():
+        j = first_nonzero(st)
+        if j < 0:
             return
-        j = int(np.argmax(st != 0))
         what = {ABOVE_MELT: "the column is at or above the melting temperature before the step",
                 NO_CONVERGENCE: f"the interface root finder did not converge in {self.max_iter} iterations",
                 BAD_INPUT: "non-finite input"}.get(int(st[j]), f"status {int(st[j])}")
-        raise SimulationError(f"sub-grid step {when}: node {j}: {what} "
+        raise SimulationError(f"sub-grid step {self._when(*when)}: node {j}: {what} "
                               f"(theta_ad(0) = {self.columns.X[0, j]!r} K)")

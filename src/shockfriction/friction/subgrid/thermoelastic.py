@@ -82,6 +82,15 @@ def first_nonfinite(arrays):
 
 
 @njit(cache=True)
+def first_nonzero(status):
+    """Index of the first nonzero entry of ``status``, -1 if none."""
+    for j in range(status.shape[0]):
+        if status[j] != 0:
+            return j
+    return -1
+
+
+@njit(cache=True)
 def book_step(ad0, unit0, q_in, tau, v_half, v_prev, dt, deposited, plastic, active, theta_interface, slip_macro,
               friction_work, heat_interface, heat_plastic):
     """End of a step, per node: interface temperature theta_ad(0) + q_in a0 (eq. 7.70), |[V]^n| =

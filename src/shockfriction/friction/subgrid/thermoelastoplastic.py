@@ -57,12 +57,41 @@ from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, 
 LOG_TARGET_MAX = 300.0
 TARGET_MAX = math.exp(LOG_TARGET_MAX)
 # Lazy hardening (plastic_increments): a stale node flows for sure when x^(1/n) > (1 + beta eps)(1 + LAZY_MARGIN).
-# With pow and 1/n within one ulp, that gives ln x - ln H >= n ln(1 + LAZY_MARGIN) - 1e-13 n - 2.3e-16 > 0 for
-# n >= LAZY_N_MIN (ln H <= 710); below it (or beta < 0) H is computed at every update, as before.
+# With pow and 1/n within one ulp (x^(1/n) by root_power: within 2 ROOT_POWER_MAX ulp, 1.5e-14 more in ln), that gives
+# ln x - ln H >= n ln(1 + LAZY_MARGIN) - 1.2e-13 n - 2.3e-16 > 0 for n >= LAZY_N_MIN (ln H <= 710); below it (or
+# beta < 0) H is computed at every update, as before.
 LAZY_MARGIN = 1e-9
 LAZY_N_MIN = 1e-6
 # a stale entry holds -H_old (1 - STALE_SHRINK): below every later H (eps only grows, pow is within an ulp)
 STALE_SHRINK = 2.0 ** -50
+
+
+# x^(1/n) by binary powering where 1/n is an integer up to this (n = 0.1 for most of the library's SCG fits)
+ROOT_POWER_MAX = 64
+
+
+@njit(cache=True, inline="always")
+def root_exponent(n):
+    """The integer k = 1/n when 1/n is one in [1, ROOT_POWER_MAX] (x^(1/n) = x^k by products), else 0 (pow)."""
+    r = 1.0 / n
+    return int(r) if 1.0 <= r <= ROOT_POWER_MAX and r == math.floor(r) else 0
+
+
+@njit(cache=True, inline="always")
+def root_power(x, inv_n, k):
+    """x^(1/n) (the strain target of eq. 8.42): x^k by binary powering when k > 0 (k - 1 products at most,
+    relative error below 2 k ulp, against pow's one ulp; x^10 is four products), else ``x ** inv_n``."""
+    if k <= 0:
+        return x ** inv_n
+    r = 1.0
+    b = x
+    while True:
+        if k & 1:
+            r *= b
+        k >>= 1
+        if k == 0:
+            return r
+        b *= b
 
 
 @njit(cache=True, inline="always")
@@ -90,7 +119,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     exact maximum near melting).
 
     Lazy hardening: ``hard[i] < 0`` marks a stale entry (eps_prev_i grew since H_i was computed;
-    -hard[i] <= H_i is a lower bound, :func:`finish_plastic_step`).  Such a node flows for sure when
+    -hard[i] <= H_i is a lower bound, :func:`finish_column`).  Such a node flows for sure when
     t = x^(1/n) > (1 + beta eps_prev_i)(1 + LAZY_MARGIN) and (1 + g F_N - h T) E_min x < sqrt(3) tau/Y0
     (then x > H_i and the skip test above fails with H_i as well); t is the power that d_eps needs
     anyway, so H_i is not formed.  Otherwise H_i is computed, stored, and the node is treated as
@@ -134,6 +163,8 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     lin0 = 1.0 + g * F_N + h * 300.0
     x_big = math.exp(n * LOG_TARGET_MAX)  # beyond it x^(1/n) is replaced by exp(LOG_TARGET_MAX)
     lazy = lazy_hardening(p)
+    inv_n = 1.0 / n
+    k_root = root_exponent(n)
     rb, xb, tb, ab = scratch[0], scratch[1], scratch[2], scratch[3]
     # pass 1: the skip test, and G/G0 (an exponential) where it fails (NaN: skipped; G/G0 is never NaN)
     for i in range(m):
@@ -154,7 +185,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
             x = s / r
             hv = hard[i]
             if ((lazy and hv < 0.0) or not x <= hv) and x < x_big:
-                t = x ** (1.0 / n)
+                t = root_power(x, inv_n, k_root)
         xb[i] = x
         tb[i] = t
     # pass 3: the decisions, in node order
@@ -182,7 +213,7 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
         if not sure and x <= hv:
             continue
         if x < x_big:
-            d = ((t if t >= 0.0 else x ** (1.0 / n)) - 1.0) / beta - eps_prev[i]
+            d = ((t if t >= 0.0 else root_power(x, inv_n, k_root)) - 1.0) / beta - eps_prev[i]
         else:
             d = TARGET_MAX / beta
         if d > 0.0:
@@ -306,92 +337,111 @@ def plastic_depth(tau_max, F_N, q_hi, ad, ad_blk, unit_suffix_max, hard, hard_bl
 
 
 @njit(cache=True)
-def finish_plastic_step(eps, deps, hard, hard_blk, p, depth, tau, heat_factor, weights, pending, pending_depth,
-                        plastic_work, lag, rho_c, flags, pending_sum):
-    """After the accepted solve, one pass over the yielded layer of every column (nodes below depth[j]):
-    eps += deps, hard = (1 + beta eps)^n (and hard_blk, its block suffix minima of |hard|); plastic work +=
-    sqrt(3) tau sum_i w_i d_eps_i; pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3),
-    deposited next step, eq. 8.46), zero below; pending_sum = sum_i w_i pending_i (J/m^2); lag = max pending/(rho c);
-    flags[j] = some pending heat of column j is a nonzero temperature.  ``pending`` is (n_nodes, n_columns), the
-    rest per column;
-    ``pending_depth[j]`` (in/out) bounds the nonzero pending heat of each column (n_nodes is always safe).
+def source_span(pending_depth):
+    """(s0, s1, n_src): the columns s0 <= j < s1 span those with pending_depth[j] > 0 (the pending plastic heat may
+    be nonzero only there), n_src = their largest pending_depth; (0, 0, 0) when there are none."""
+    s0, s1, n_src = -1, 0, 0
+    for j in range(pending_depth.shape[0]):
+        d = pending_depth[j]
+        if d != 0:
+            if s0 < 0:
+                s0 = j
+            s1 = j + 1
+            if d > n_src:
+                n_src = d
+    return (s0, s1, n_src) if s0 >= 0 else (0, 0, 0)
+
+
+@njit(cache=True, inline="always")
+def finish_column(j, eps, deps, scale, hard, hard_blk, beta, n, lazy, m, tau, heat_factor, weights, pending,
+                  pending_depth, plastic_work, lag, rho_c, flags, pending_sum):
+    """After column j's accepted solve, one pass over its yielded layer (nodes below m, the plastic-front bound):
+
+    * deps *= scale (the kinematic limit's factor; 1 below the limit), eps += deps;
+    * hard = (1 + beta eps)^n and hard_blk, its block suffix minima of |hard|;
+    * plastic work += sqrt(3) tau sum_i w_i d_eps_i;
+    * pending heat = heat_factor tau d_eps (J/m^3, heat_factor = beta_Q sqrt(3), deposited next step, eq. 8.46),
+      zero below; pending_sum = sum_i w_i pending_i (J/m^2); lag = max pending/(rho c); flags[j] = some pending
+      heat of column j is a nonzero temperature.
+
+    ``eps``, ``deps``, ``hard``, ``hard_blk`` are column j's rows, ``pending`` is (n_nodes, n_columns), the rest
+    per column; ``pending_depth[j]`` (in/out) bounds the nonzero pending heat of the column (n_nodes is always safe).
 
     Lazy hardening (:func:`lazy_hardening`): the power is not formed here; a yielded node's entry becomes
     stale, -H_old (1 - STALE_SHRINK) (a lower bound of the new H), and :func:`plastic_increments` forms H
     only where it is needed.
     """
-    beta, n = p[I_BETA], p[I_N]
-    lazy = lazy_hardening(p)
-    nn = eps.shape[1]
+    nn = eps.shape[0]
     inv_rho_c = 1.0 / rho_c
-    for j in range(eps.shape[0]):
-        m = depth[j] if 0 <= depth[j] <= nn else nn
-        old = pending_depth[j] if 0 <= pending_depth[j] <= nn else nn
-        c = heat_factor * tau[j]
-        work = 0.0
-        heat = 0.0
-        top = 0.0
-        flag = False
-        top_changed = -1  # deepest node whose hardening changed
-        for i in range(m):
-            d = deps[j, i]
-            if d > 0.0:
-                e = eps[j, i] + d
-                eps[j, i] = e
-                if not lazy:
-                    hard[j, i] = (1.0 + beta * e) ** n
-                    top_changed = i
-                elif hard[j, i] >= 0.0:  # becomes stale: its lower bound shrinks
-                    hard[j, i] = -hard[j, i] * (1.0 - STALE_SHRINK)
-                    top_changed = i
-            work += weights[i] * d
-            h = c * d
-            pending[i, j] = h
-            heat += weights[i] * h
-            if h * inv_rho_c != 0.0:
-                flag = True
-            if h > top:
-                top = h
-        for i in range(m, old):
-            pending[i, j] = 0.0
-        if top_changed >= 0:
-            block_suffix_min(hard[j], hard_blk[j], top_changed // 8)
-        pending_depth[j] = m
-        flags[j] = flag
-        plastic_work[j] += SQRT3 * tau[j] * work
-        pending_sum[j] = heat
-        lag[j] = top / rho_c
+    old = pending_depth[j] if 0 <= pending_depth[j] <= nn else nn
+    c = heat_factor * tau
+    work = 0.0
+    heat = 0.0
+    top = 0.0
+    flag = False
+    top_changed = -1  # deepest node whose hardening changed
+    for i in range(m):
+        d = deps[i] * scale
+        deps[i] = d
+        if d > 0.0:
+            e = eps[i] + d
+            eps[i] = e
+            if not lazy:
+                hard[i] = (1.0 + beta * e) ** n
+                top_changed = i
+            elif hard[i] >= 0.0:  # becomes stale: its lower bound shrinks
+                hard[i] = -hard[i] * (1.0 - STALE_SHRINK)
+                top_changed = i
+        work += weights[i] * d
+        h = c * d
+        pending[i, j] = h
+        heat += weights[i] * h
+        if h * inv_rho_c != 0.0:
+            flag = True
+        if h > top:
+            top = h
+    for i in range(m, old):
+        pending[i, j] = 0.0
+    if top_changed >= 0:
+        block_suffix_min(hard, hard_blk, top_changed // 8)
+    pending_depth[j] = m
+    flags[j] = flag
+    plastic_work[j] += SQRT3 * tau * work
+    pending_sum[j] = heat
+    lag[j] = top / rho_c
 
 
 @njit(cache=True, inline="always")
 def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, unit_max, F_N, v_free, v_prev,
               k, tau_cap, beta_T, f, p, dt, deps, depth, q_hi, scratch):
-    """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate)."""
+    """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate, scale).
+
+    ``deps`` receives the closed-form increments; at the kinematic limit they are to be multiplied by ``scale``
+    (< 1; else 1), which :func:`finish_column` does for the accepted point (the trial points need only the rate)."""
     tau = friction_stress(F_N, theta, tau_cap, f, p)
     vh = corrected_slip(v_free, tau, k)
     v_mac = abs(0.5 * (vh + v_prev))
     q = (theta - theta_ad[0]) / a0
     integral = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max,
                                   p, deps, scratch, depth, q_hi)
+    scale = 1.0
     if integral >= 0.0:
         rate = SQRT3 * integral / dt
         if rate > v_mac:  # kinematic limit: the layer takes at most the macroscopic slip of the step
             scale = v_mac / rate
-            m = visited(q, depth, q_hi, deps.shape[0])
-            for i in range(m):
-                deps[i] *= scale
             rate = v_mac
         v_loc = v_mac - rate
     else:
         rate = math.inf
         v_loc = 0.0
-    return theta - theta_ad[0] - a0 * beta_T * tau * v_loc, tau, vh, v_loc, rate
+    return theta - theta_ad[0] - a0 * beta_T * tau * v_loc, tau, vh, v_loc, rate, scale
 
 
 @njit(cache=True)
 def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev,
                               k, tau_cap, beta_T, f, p, dt, xtol, max_iter,
                               theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status, depth,
+                              heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
                               use_front=True):
     """Per-column interface solve with plasticity (Algorithm 2).  ``theta_ad`` is (n_nodes, n_columns)
     (the thermal layout, read here only above the plastic front) with ``ad_blk[b, j]`` = max_{i >= 8b}
@@ -405,20 +455,29 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     safe); on exit (status OK) the plastic-front bound of :func:`plastic_depth`: deps[j] is zero
     from there on, and only nodes above it are visited by the root iterations (``use_front=False``:
     every node, the reference that the tests compare against).
+
+    Each column whose solve succeeds (status OK) is then finished at once, while its rows are in cache
+    (:func:`finish_column`: eps_prev += deps, the hardening, plastic_work, the pending plastic heat
+    ``pending`` (n_nodes, n_columns) = heat_factor tau deps with ``pending_depth``, ``pending_sum``, ``lag``
+    and ``flags``); a column that fails is left as it was.
     """
     nn = theta_unit.shape[0]
     _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
-                   status, depth, use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)))
+                   status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
+                   use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)))
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
-                   status, depth, use_front, st, unit_sfx, scratch):
+                   status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
+                   use_front, st, unit_sfx, scratch):
     """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes,
     ``scratch`` (4, n_nodes) for :func:`plastic_increments`)."""
     T_F = p[I_TF]
+    beta, n_hard = p[I_BETA], p[I_N]
+    lazy = lazy_hardening(p)
     a0 = theta_unit[0]
     nn = theta_unit.shape[0]
     # unit_sfx: suffix maxima of max(theta_unit, 0), the same for every column
@@ -478,7 +537,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
         hi = t_ad + a0 * q_max
         lo = t_ad
         # the last evaluation (point, results; its d_eps are in drow): reused when it is the accepted point
-        r_lo, t, vh, vl, rate = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
+        r_lo, t, vh, vl, rate, scale = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
                                           F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
                                           m, q_hi, scratch)
         x = lo
@@ -492,9 +551,9 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
                 if done:
                     converged = True
                     break
-                r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
-                                               F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt,
-                                               drow, m, q_hi, scratch)
+                r, t, vh, vl, rate, scale = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
+                                                      unit_max, F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T,
+                                                      f, p, dt, drow, m, q_hi, scratch)
                 x_last = x
                 brent_feed(st, r)
                 iters[j] = it + 1
@@ -502,7 +561,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
                 status[j] = NO_CONVERGENCE
             x = st[B] if st[FB] >= 0.0 else st[C]
         if x != x_last:  # _evaluate is deterministic: the same point gives the same state
-            r, t, vh, vl, rate = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
+            r, t, vh, vl, rate, scale = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
                                            F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
                                            m, q_hi, scratch)
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
@@ -513,3 +572,6 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
         v_local[j] = vl
         plastic_rate[j] = rate
         q_in[j] = beta_T * t * vl
+        if status[j] == OK:
+            finish_column(j, eps_prev[j], drow, scale, hrow, hard_blk[j], beta, n_hard, lazy, m, t, heat_factor,
+                          weights, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum)
