@@ -89,8 +89,11 @@ def main(argv=None) -> None:
         wall = statistics.median(r["wall"] for r in times[law])
         sub = statistics.median(r["subgrid"] for r in times[law])
         cyc = times[law][0]["cycles"]
-        extra = "" if law == laws[0] else (f"  x{wall / base:.2f} of {laws[0]}; sub-grid step {sub:.1f} s "
-                                             f"({sub / cyc * 1e3:.2f} ms per cycle)")
+        # the ratio of each repeat's pair of runs (taken a minute apart): the host's speed drifts between repeats
+        pairs = sorted(r["wall"] / b["wall"] for r, b in zip(times[law], times[laws[0]]))
+        extra = "" if law == laws[0] else (f"  x{wall / base:.2f} of {laws[0]} (per repeat x{pairs[0]:.2f}-"
+                                             f"x{pairs[-1]:.2f}, median x{statistics.median(pairs):.2f}); "
+                                             f"sub-grid step {sub:.1f} s ({sub / cyc * 1e3:.2f} ms per cycle)")
         print(f"  {law:<28} {wall:7.1f} s  {cyc} cycles, {wall / cyc * 1e3:.2f} ms per cycle{extra}")
     refined(args, zc_rate)
 
