@@ -339,7 +339,12 @@ def control_weights(z):
 @njit(cache=True)
 def heat_matrix(z, diffusivity, dt):
     """Diagonals (a, b, c) of the backward-Euler matrix K (table 7.66 on a uniform grid)."""
-    w = control_weights(z)
+    return _heat_diagonals(z, control_weights(z), diffusivity, dt)
+
+
+@njit(cache=True)
+def _heat_diagonals(z, w, diffusivity, dt):
+    """:func:`heat_matrix` with the control-volume widths ``w`` of ``z`` given."""
     n = z.size
     a = np.zeros(n)
     c = np.zeros(n)
@@ -355,13 +360,13 @@ def heat_matrix(z, diffusivity, dt):
 
 
 @njit(cache=True)
-def factor_step(z, diffusivity, dt, rho_c):
+def factor_step(z, w, diffusivity, dt, rho_c):
     """Everything a step of ``dt`` needs: the Thomas factors (mult, 1/b') and c of K, the unit-flux response
-    theta_unit = K^{-1} e_0 dt/(rho c w_0) (K m^2/W) and its maximum."""
-    a, b, c = heat_matrix(z, diffusivity, dt)
+    theta_unit = K^{-1} e_0 dt/(rho c w_0) (K m^2/W) and its maximum; ``w`` = control_weights(z)."""
+    a, b, c = _heat_diagonals(z, w, diffusivity, dt)
     mult, inv_bp = thomas_factor(a, b, c)
     rhs = np.zeros(z.size)
-    rhs[0] = dt / (rho_c * control_weights(z)[0])
+    rhs[0] = dt / (rho_c * w[0])
     unit = np.empty(z.size)
     thomas_apply(mult, inv_bp, c, rhs, unit)
     return mult, inv_bp, c, unit, unit.max()
@@ -444,7 +449,7 @@ class ThermalColumns:
             self.mult, self.inv_bp, self.c, self.theta_unit, self.unit_max = self._cache[dt]
             self.dt = dt
             return
-        self.mult, self.inv_bp, self.c, unit, unit_max = factor_step(self.z, self.alpha, dt, self.rho_c)
+        self.mult, self.inv_bp, self.c, unit, unit_max = factor_step(self.z, self.weights, self.alpha, dt, self.rho_c)
         self.theta_unit = unit  #: temperature rise per W/m^2 of interface flux over one step, K m^2/W
         self.unit_max = float(unit_max)
         self.dt = dt

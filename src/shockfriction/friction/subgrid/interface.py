@@ -188,8 +188,8 @@ class SubgridInterface:
     def _step_viscoplastic(self, F_N, vf, vp, k, tau_cap, dt, when):
         c = self.vp
         tau, v_half = c.step(F_N, vf, vp, k, tau_cap, dt)
-        if c.status.any():
-            j = int(np.argmax(c.status != 0))
+        j = first_nonzero(c.status)
+        if j >= 0:
             raise SimulationError(f"sub-grid step {self._when(*when)}: node {j}: the viscoplastic column solve failed "
                                   f"(status {int(c.status[j])}, theta(0) = {c.T[0, j]!r} K)")
         self.tau[:] = tau

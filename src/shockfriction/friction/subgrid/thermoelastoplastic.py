@@ -537,9 +537,9 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
         hi = t_ad + a0 * q_max
         lo = t_ad
         # the last evaluation (point, results; its d_eps are in drow): reused when it is the accepted point
-        r_lo, t, vh, vl, rate, scale = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
-                                          F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
-                                          m, q_hi, scratch)
+        r_lo, t, vh, vl, rate, scale = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
+                                                 unit_max, F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f,
+                                                 p, dt, drow, m, q_hi, scratch)
         x = lo
         x_last = lo
         if r_lo < 0.0:
@@ -561,9 +561,9 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
                 status[j] = NO_CONVERGENCE
             x = st[B] if st[FB] >= 0.0 else st[C]
         if x != x_last:  # _evaluate is deterministic: the same point gives the same state
-            r, t, vh, vl, rate, scale = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max, unit_max,
-                                           F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f, p, dt, drow,
-                                           m, q_hi, scratch)
+            r, t, vh, vl, rate, scale = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
+                                                  unit_max, F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f,
+                                                  p, dt, drow, m, q_hi, scratch)
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
             status[j] = ABOVE_MELT
         theta_s[j] = x
