@@ -52,6 +52,7 @@ from shockfriction.hydro.matprops import (
 from shockfriction.hydro.shear_viscosity import shear_viscosity_forces
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.hydro.spall import spall_damage
+from shockfriction.jit_bits import f64_bits, f64_from_bits
 from shockfriction.jit_options import NO_REFCOUNT
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
 
@@ -497,6 +498,27 @@ def internal_energy(e, e_el, cmass):
 
 # --------------------------------------------------------------------------- cells
 
+@njit(cache=True, inline="always")
+def energy_pressure(et, p0, qmid, dv, a, b, pfloor):
+    """(e, P) at n+1 from P = A + B e and e = e~ - ((P^n + q) + P)/2 dv (q: the mid-step q
+    ``qmid`` counted once), P floored at ``pfloor`` (then e from the floored P)."""
+    e1 = (et - (0.5 * p0 + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
+    p1 = a + b * e1
+    if p1 < pfloor:
+        p1 = pfloor
+        e1 = et - (0.5 * (p0 + p1) + qmid) * dv
+    return e1, p1
+
+
+@njit(cache=True, inline="always")
+def material_run_end(mat, c0, nc):
+    """The end of the run of cells c0, c0 + 1, ... (unsigned) of material mat[c0] (a body's cells are consecutive)."""
+    c = c0 + np.uint64(1)
+    while c < nc and mat[c] == mat[c0]:
+        c += np.uint64(1)
+    return c
+
+
 def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
                        qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
@@ -516,14 +538,20 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
     Four loops over the cells, each a short chain of dependent divisions and roots that the
     processor overlaps across cells (one loop would be one ~300-clock chain per cell): (1)
     geometry, strain rate and q, (2) deviator, (3) energy, EOS, spall, temperature, (4) moduli,
-    flow stress, sound speed, stable step.  ``work`` (11, cells) carries the values handed from
-    one loop to the next (tr D, dv/m, e~, q mid-step, D, spin, 1/rho^{n+1/2}, 1/rho^{n+1}), stored
-    exactly.  Divisions are few (docs/theory/fused-cycle.md): 1/m, 1/V^{n+1/2} and rho^{n+1} = m/V^{n+1}
+    flow stress, sound speed, stable step.  Loops 3 and 4 run over each run of cells of one
+    material (:func:`material_run_end`) with its parameters in registers and without branches
+    or libm calls, so that LLVM vectorises them across cells (SIMD); loop 3's spall update
+    (materials with spall only) and its temperature look-up (a table gather) are scalar loops of
+    their own after it.  A bad cell's e, P and c are then written too (its error aborts the run).
+    Compiled with ``error_model="numpy"`` (a division by zero gives inf/NaN, caught as a bad
+    cell, instead of a ZeroDivisionError check that would stop the vectoriser).
+    ``work`` (11, cells) carries the values handed from one loop to the next (tr D, dv/m, e~,
+    q mid-step, D, spin, 1/rho^{n+1/2}, 1/rho^{n+1}; P^n in the row of D_xx for loop 3's spall
+    step), stored exactly.  Divisions are few (docs/theory/fused-cycle.md): 1/m, 1/V^{n+1/2} and rho^{n+1} = m/V^{n+1}
     per cell, the rest are products with them and with the per-material reciprocals that the kernel
     first puts in ``mrec`` (bodies, 4): 1/G0, 1/rho0, (table size - 1)/(mu_hi - mu_lo), 1/c_v."""
     ntab = table.shape[1]
     nc = conn.shape[0]
-    dtmin = 1e300
     bad = nc
     qv = 0.0
     for m in range(props.shape[0]):
@@ -714,65 +742,72 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
         work[2, c] = e[c] + heat
         if skind != STRENGTH_NONE and skind != STRENGTH_EPP and not failed:
             yld[c] = hnew  # (SCG) times G(P, T)/G0 in the last loop
-    # third loop: energy and pressure, spall, temperature, bulk sound speed
-    for c in prange(nc):
-        m = np.uint64(mat[c])
+    # third loop: energy and pressure, bulk sound speed, over each run of cells of one material with
+    # its parameters in registers (vectorised across cells like the last loop); then, for a material
+    # with spall, the cells that fail now (scalar); then temperature (a table look-up: scalar)
+    ncu = np.uint64(nc)  # unsigned cell numbers: no negative-index wraparound, LLVM sees unit strides
+    c0 = np.uint64(0)
+    while c0 < ncu:
+        m = np.uint64(mat[c0])
+        c_end = material_run_end(mat, c0, ncu)
         ekind = props[m, P_EOS]
         rho0 = props[m, P_RHO0]
-        c0 = props[m, P_C0]
+        snd0 = props[m, P_C0]
         s_ = props[m, P_S]
         g0 = props[m, P_GAMMA0]
         gam = props[m, P_GAMMA]
-        failed = dmg[c] >= 1.0
-        rho1 = rho[c]
-        irho1 = work[10, c]
         irho0 = mrec[m, R_IRHO0]
-        dv = work[1, c]
-        et = work[2, c]
-        qmid = work[3, c]
-        # ---- energy and pressure (thesis eq. 3.18 with errata), q time-centred as the forces see it:
-        # e1 = e~ - ((P^n + q^{n-1/2}) + (P^{n+1} + q^{n+1/2}))/2 dv
-        mu1 = rho1 * irho0  # rho/rho0 (mu + 1)
-        a, b, da = eos_ab_r(rho1, irho1, rho0 * irho1, mu1, ekind, rho0, c0, s_, g0, gam)
-        e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
-        p1 = a + b * e1
-        pfloor = props[m, P_PMIN]
-        if failed and pfloor < 0.0:
-            pfloor = 0.0  # a failed cell carries no tension
-        if p1 < pfloor:
-            p1 = pfloor
-            e1 = et - (0.5 * (p[c] + p1) + qmid) * dv
+        pmin = props[m, P_PMIN]
+        for c in prange(c0, c_end):
+            rho1 = rho[c]
+            irho1 = work[10, c]
+            # thesis eq. 3.18 with errata, q time-centred as the forces see it:
+            # e1 = e~ - ((P^n + q^{n-1/2}) + (P^{n+1} + q^{n+1/2}))/2 dv
+            a, b, da = eos_ab_r(rho1, irho1, rho0 * irho1, rho1 * irho0, ekind, rho0, snd0, s_, g0, gam)
+            pfloor = 0.0 if (dmg[c] >= 1.0 and pmin < 0.0) else pmin  # a failed cell carries no tension
+            p0 = p[c]
+            e1, p1 = energy_pressure(work[2, c], p0, work[3, c], work[1, c], a, b, pfloor)
+            work[4, c] = p0  # P^n, for a cell that fails now
+            e[c] = e1
+            p[c] = p1
+            cs[c] = sound_speed2_ab(irho1, p1, ekind, snd0, b, da)  # bulk c^2, the last loop adds the shear part
         spk = props[m, P_SPALL]
-        if spk != SPALL_NONE and not failed:
-            dnew = spall_damage(spk, dmg[c], p1, sxx[c], syy[c], sxy[c], dt, props[m, P_PSPALL],
-                                props[m, P_TB_SIGMA0], props[m, P_TB_LAMBDA], props[m, P_TB_K])
-            if dnew >= 1.0:
-                # the cell fails now: its deviator and stored shear energy (as heat) are released,
-                # and the EOS update is redone with no tension (the released energy stays in e)
-                failed = True
-                dnew = 1.0
-                et += e_el[c]
-                e_el[c] = 0.0
-                sxx[c] = 0.0
-                syy[c] = 0.0
-                sxy[c] = 0.0
-                e1 = (et - (0.5 * p[c] + qmid) * dv - 0.5 * a * dv) / (1.0 + 0.5 * b * dv)
-                p1 = a + b * e1
-                if pfloor < 0.0:
-                    pfloor = 0.0
-                if p1 < pfloor:
-                    p1 = pfloor
-                    e1 = et - (0.5 * (p[c] + p1) + qmid) * dv
-            dmg[c] = dnew
-        if not (math.isfinite(e1) and math.isfinite(p1)):
+        if spk != SPALL_NONE:
+            for c in prange(c0, c_end):
+                if dmg[c] >= 1.0:  # failed before
+                    continue
+                dnew = spall_damage(spk, dmg[c], p[c], sxx[c], syy[c], sxy[c], dt, props[m, P_PSPALL],
+                                    props[m, P_TB_SIGMA0], props[m, P_TB_LAMBDA], props[m, P_TB_K])
+                if dnew >= 1.0:
+                    # the cell fails now: its deviator and stored shear energy (as heat) are released,
+                    # and the EOS update is redone with no tension (the released energy stays in e)
+                    dnew = 1.0
+                    et = work[2, c] + e_el[c]
+                    e_el[c] = 0.0
+                    sxx[c] = 0.0
+                    syy[c] = 0.0
+                    sxy[c] = 0.0
+                    rho1 = rho[c]
+                    irho1 = work[10, c]
+                    a, b, da = eos_ab_r(rho1, irho1, rho0 * irho1, rho1 * irho0, ekind, rho0, snd0, s_, g0, gam)
+                    e1, p1 = energy_pressure(et, work[4, c], work[3, c], work[1, c], a, b, max(pmin, 0.0))
+                    e[c] = e1
+                    p[c] = p1
+                    cs[c] = sound_speed2_ab(irho1, p1, ekind, snd0, b, da)
+                dmg[c] = dnew
+        c0 = c_end
+    for c in prange(nc):
+        m = np.uint64(mat[c])
+        e1 = e[c]
+        if not (math.isfinite(e1) and math.isfinite(p[c])):
             errcell[c] = ERR_NAN
             bad = min(bad, c)
             continue
         # ---- temperature: T0 + (e - e_s(mu))/cv, or e/cv (ideal gas)
-        if ekind == EOS_IDEAL_GAS:
+        if props[m, P_EOS] == EOS_IDEAL_GAS:
             t1 = e1 * mrec[m, R_ICV]
         else:
-            f = (mu1 - 1.0 - props[m, P_MU_LO]) * mrec[m, R_TSCALE]
+            f = (rho[c] * mrec[m, R_IRHO0] - 1.0 - props[m, P_MU_LO]) * mrec[m, R_TSCALE]
             if f <= 0.0:
                 es = table[m, 0]
             elif f >= ntab - 1:
@@ -782,50 +817,67 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
                 wt = f - k
                 es = (1.0 - wt) * table[m, k] + wt * table[m, k + 1]
             t1 = props[m, P_T0] + (e1 - es) * mrec[m, R_ICV]
-        e[c] = e1
-        p[c] = p1
         temp[c] = t1
-        cs[c] = sound_speed2_ab(irho1, p1, ekind, c0, b, da)  # bulk c^2, the last loop adds the shear part
     if bad < nc:
         return 0.0, bad, errcell[bad], qv
-    # last loop: moduli, flow stress, sound speed at n+1 and the stable time step of the cell
-    for c in prange(nc):
-        m = np.uint64(mat[c])
+    # last loop: moduli, flow stress, sound speed at n+1 and the stable time step of the cell, over
+    # each run of cells of one material with its parameters in registers: no branches, no libm call,
+    # so that LLVM vectorises it across cells (docs/theory/fused-cycle.md, fifth look)
+    dtbits = f64_bits(1e300)  # min dtcell
+    c0 = np.uint64(0)
+    while c0 < ncu:
+        m = np.uint64(mat[c0])
+        c_end = material_run_end(mat, c0, ncu)
         skind = props[m, P_STRENGTH]
         sg0 = props[m, P_G0]
-        c2 = cs[c]
-        irho1 = work[10, c]
-        if dmg[c] >= 1.0:  # failed
-            shear[c] = 0.0
-            yld[c] = 0.0
-        elif skind == STRENGTH_EPP:
-            shear[c] = sg0
-            yld[c] = props[m, P_Y0]
-            c2 += (4.0 / 3.0) * sg0 * irho1
-        elif skind != STRENGTH_NONE:
-            ratio1 = scg_shear_ratio(p[c], temp[c], props[m, P_SCG + I_G], props[m, P_SCG + I_H],
-                                     props[m, P_SCG + I_XI], props[m, P_SCG + I_TF])
-            shear[c] = sg0 * ratio1
-            yld[c] = yld[c] * ratio1
-            gpred = sg0 if (props[m, P_G_CONST] != 0.0 and ratio1 > 0.0) else sg0 * ratio1
-            c2 += (4.0 / 3.0) * gpred * irho1
-        c1 = math.sqrt(c2)
-        cs[c] = c1
-        lcfl = dtcell[c]
-        trd = work[0, c]
-        # aq = 0 in expansion (no branch: the sign of a resting cell's tr D is round-off)
-        aq = cq * cq * lcfl * max(-trd, 0.0) + (cl * c1 if trd < 0.0 else 0.0)
-        dtc = cfl * lcfl / (aq + math.sqrt(aq * aq + c2))
-        atr = abs(trd)
-        if dvmax < dtc * atr:  # the volume-change cap dvmax/|tr D| is the smaller
-            dtc = dvmax / atr
-        dtcell[c] = dtc
-        dtmin = min(dtmin, dtc)
-    return dtmin, -1, ERR_NONE, qv
+        y_epp = props[m, P_Y0]
+        gconst = props[m, P_G_CONST] != 0.0
+        sg = props[m, P_SCG + I_G]
+        sh = props[m, P_SCG + I_H]
+        sxi = props[m, P_SCG + I_XI]
+        stf = props[m, P_SCG + I_TF]
+        for c in prange(c0, c_end):
+            c2 = cs[c]
+            irho1 = work[10, c]
+            # G(P, T)/G0 in every cell (selects below, no branch per cell)
+            ratio1 = scg_shear_ratio(p[c], temp[c], sg, sh, sxi, stf)
+            if skind == STRENGTH_EPP:
+                g_c = sg0
+                y_c = y_epp
+                gpred = sg0  # G of the next predictor (the shear part of c^2)
+            elif skind != STRENGTH_NONE:
+                g_c = sg0 * ratio1
+                y_c = yld[c] * ratio1
+                gpred = sg0 if (gconst and ratio1 > 0.0) else g_c
+            else:
+                g_c = shear[c]
+                y_c = yld[c]
+                gpred = 0.0
+            if dmg[c] >= 1.0:  # failed
+                g_c = 0.0
+                y_c = 0.0
+                gpred = 0.0
+            shear[c] = g_c
+            yld[c] = y_c
+            c2 += (4.0 / 3.0) * gpred * irho1  # + 0 exactly without strength
+            c1 = math.sqrt(c2)
+            cs[c] = c1
+            lcfl = dtcell[c]
+            trd = work[0, c]
+            # aq = 0 in expansion (no branch: the sign of a resting cell's tr D is round-off)
+            aq = cq * cq * lcfl * max(-trd, 0.0) + (cl * c1 if trd < 0.0 else 0.0)
+            dtc = cfl * lcfl / (aq + math.sqrt(aq * aq + c2))
+            atr = abs(trd)
+            if dvmax < dtc * atr:  # the volume-change cap dvmax/|tr D| is the smaller
+                dtc = dvmax / atr
+            dtcell[c] = dtc
+            dtbits = min(dtbits, f64_bits(dtc))  # dtc > 0: the order of its bits (jit_bits)
+        c0 = c_end
+    return f64_from_bits(dtbits), -1, ERR_NONE, qv
 
 
-update_cells_serial = njit(cache=True, **NO_REFCOUNT)(_update_cells_impl)
-update_cells_parallel = njit(cache=True, parallel=True)(_twin(_update_cells_impl, "_parallel"))
+update_cells_serial = njit(cache=True, error_model="numpy", **NO_REFCOUNT)(_update_cells_impl)
+update_cells_parallel = njit(cache=True, parallel=True, error_model="numpy")(_twin(_update_cells_impl, "_parallel"))
 
 
 @njit(cache=True, **NO_REFCOUNT)

@@ -18,17 +18,40 @@ import math
 import numpy as np
 from numba import njit, vectorize
 
+from shockfriction.jit_bits import f64_from_bits
+
 T_REF = 300.0  #: SCG reference temperature (K)
 
 I_G0, I_Y0, I_YMAX, I_BETA, I_N, I_G, I_H, I_XI, I_TF = range(9)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always", error_model="numpy")
+def exp_inline(x):
+    """exp(x) without a libm call, so that a loop calling it can be vectorised (SVML is absent):
+    fdlibm's e_exp.c, x = k ln2 + r (|r| <= ln2/2, ln2 in two parts), exp(r) = 1 + r + r c/(2 - c),
+    c = r - r^2 (P1 + ... + P5 r^8); exp(x) = exp(r) 2^(k1) 2^(k - k1), k1 = k/2, the powers of two
+    from their bits.  Within 1 ulp of libm (tests/test_exp_inline.py); x is clamped to [-746, 710]
+    (0 and inf outside), NaN stays NaN."""
+    x = max(min(x, 710.0), -746.0)
+    kf = math.floor(x * 1.44269504088896338700e+00 + 0.5)
+    hi = x - kf * 6.93147180369123816490e-01  # exact: ln2's high part has 32 bits
+    lo = kf * 1.90821492927058770002e-10
+    r = hi - lo
+    t = r * r
+    c = r - t * (1.66666666666666019037e-01 + t * (-2.77777777770155933842e-03 + t * (
+        6.61375632143793436117e-05 + t * (-1.65339022054652515390e-06 + t * 4.13813679705723846039e-08))))
+    y = 1.0 - ((lo - (r * c) / (2.0 - c)) - hi)
+    k = int(kf)
+    k1 = k >> 1
+    return y * f64_from_bits((k1 + 1023) << 52) * f64_from_bits((k - k1 + 1023) << 52)
+
+
+@njit(cache=True, error_model="numpy")  # T_F - T > 0 where it divides: no zero check needed (vectorisable)
 def scg_shear_ratio(P, T, g, h, xi, T_melt):
     """G(P, T)/G0: (1 + g P - h (T - 300)) exp(-xi T/(T_F - T)); 0 at or above T_F, never negative."""
     if T >= T_melt:
         return 0.0
-    r = (1.0 + g * P - h * (T - T_REF)) * math.exp(-xi * T / (T_melt - T))
+    r = (1.0 + g * P - h * (T - T_REF)) * exp_inline(-xi * T / (T_melt - T))
     return r if r > 0.0 else 0.0
 
 
@@ -53,11 +76,8 @@ def scg_yield(eps_p, P, T, p):
 
 @vectorize(["float64(float64, float64, float64, float64, float64, float64)"], cache=True)
 def shear_ratio(P, T, g, h, xi, T_melt):
-    """Element-wise G/G0 (numpy ufunc over P and T)."""
-    if T >= T_melt:
-        return 0.0
-    r = (1.0 + g * P - h * (T - T_REF)) * math.exp(-xi * T / (T_melt - T))
-    return r if r > 0.0 else 0.0
+    """Element-wise G/G0 (numpy ufunc over P and T): :func:`scg_shear_ratio`."""
+    return scg_shear_ratio(P, T, g, h, xi, T_melt)
 
 
 def shear_modulus(material, P, T) -> np.ndarray:
