@@ -512,7 +512,8 @@ def energy_pressure(et, p0, qmid, dv, a, b, pfloor):
 
 @njit(cache=True, inline="always")
 def material_run_end(mat, c0, nc):
-    """The end of the run of cells c0, c0 + 1, ... (unsigned) of material mat[c0] (a body's cells are consecutive)."""
+    """The end of the run of cells c0, c0 + 1, ... (unsigned) of material mat[c0]: any cell order is
+    right, and a body whose cells are consecutive is one run."""
     c = c0 + np.uint64(1)
     while c < nc and mat[c] == mat[c0]:
         c += np.uint64(1)
