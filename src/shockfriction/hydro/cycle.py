@@ -30,7 +30,8 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    row (docs/theory/fused-cycle.md).
 
 On one thread, without interfaces and when the row (if any) has no probes or observers, steps 1-6
-are one call (:func:`~shockfriction.hydro.kernels.cycle_serial`, the same kernels in the same order).
+are one call (:func:`~shockfriction.hydro.kernels.cycle_serial`: the same operations in the same order, steps
+3 and 5 in one pass over the nodes).
 
 Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
 leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/hydrocode.md, sec. 5).
@@ -127,6 +128,10 @@ class Simulation:
             self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
+        # the constraints of each constrained node (bc_nodes ascending), in list order: for the node pass
+        order = np.argsort(c.node, kind="stable").astype(np.int64)
+        self._bc_ptr = np.searchsorted(c.node[order], np.append(self._bc_nodes, nn)).astype(np.int64)
+        self._bc_cons = order
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
         self._grp = (problem.groups.ptr, problem.groups.nodes)
         s.dt = self._first_time_step()
@@ -327,9 +332,9 @@ class Simulation:
             s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl, self.shear_visc,
             *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass, record,
             *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre, self._vy_pre, s.mass_own,
-            *self._cons, self._bc_nodes, self._jx_bc_prev, self._jy_bc_prev, dt, self._x_half, self._y_half, s.mat,
-            s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl,
-            self.dvmax, s.damage, *self._scratch)
+            *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons, self._jx_bc_prev, self._jy_bc_prev, dt,
+            self._x_half, self._y_half, s.mat, s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell,
+            self._errcell, self.cfl, self.dvmax, s.damage, *self._scratch)
         en = s.energy
         if self._cons[0].shape[0]:
             en.boundary_work += wbc
