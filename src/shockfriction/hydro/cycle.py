@@ -119,9 +119,11 @@ class Simulation:
         self._corner = np.zeros((nc, 8))
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
-        # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps)
-        # and the per-material reciprocals that the update computes first
-        self._scratch = (np.empty((11, nc)), np.empty((s.props.shape[0], K.N_MREC)))
+        # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps;
+        # the serial update goes over blocks of K.UPDATE_BLOCK cells: one block's worth) and the per-material
+        # reciprocals that the update computes first
+        width = nc if self.parallel else max(1, min(nc, K.UPDATE_BLOCK))
+        self._scratch = (np.empty((11, width)), np.empty((s.props.shape[0], K.N_MREC)))
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
             threading_policy.use_threads(self.threads)
@@ -372,13 +374,15 @@ class Simulation:
         if self.parallel:
             K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
         # 6 cells (serial: 5 and 6 in one call)
-        update = K.update_cells_parallel if self.parallel else K.advance_serial
-        dtn, bad, code, qv = update(
-            s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
-            s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
-            s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-            self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
-            self._vx_old, self._vy_old, s.dt_velocity, *self._scratch)
+        args = (s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
+                self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
+                self._vx_old, self._vy_old, s.dt_velocity, *self._scratch)
+        if self.parallel:
+            dtn, bad, code, qv = K.update_cells_parallel(*args, 0.0)
+        else:
+            dtn, bad, code, qv = K.advance_serial(*args)
         self._end_step(dt, dtn, bad, code, qv)
 
     def _end_step(self, dt: float, dtn: float, bad: int, code: int, qv: float) -> None:

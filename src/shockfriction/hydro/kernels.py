@@ -497,9 +497,11 @@ def internal_energy(e, e_el, cmass):
 
 # --------------------------------------------------------------------------- cells
 
+UPDATE_BLOCK = 2048  # cells per block of the serial update (update_serial)
+
 def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
-                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
+                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0):
     """The cycle's cell pass (step 6): advance every cell from t^n to t^{n+1}.
 
     Per cell: volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation and radial
@@ -510,7 +512,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
     With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here).
     ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py).
     (xha, yha): the mid-step node positions x^{n+1/2} (:func:`move_nodes`), (x1a, y1a): x^{n+1}.
-    Returns (min stable dt, first bad cell or -1, its error code, the viscous heat put in);
+    Returns (min stable dt, first bad cell or -1, its error code, qv0 + the viscous heat put in);
     errcell[c] holds the code of a bad cell (only bad cells are written).
 
     Four loops over the cells, each a short chain of dependent divisions and roots that the
@@ -525,7 +527,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
     nc = conn.shape[0]
     dtmin = 1e300
     bad = nc
-    qv = 0.0
+    qv = qv0
     for m in range(props.shape[0]):
         g0m = props[m, P_G0]
         mrec[m, R_IG0] = 1.0 / g0m if g0m != 0.0 else 0.0
@@ -893,15 +895,50 @@ def forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, 
 def update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
                   heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
-    """:func:`update_cells_serial`, in plane strain with the bulk q with both flags as the constant
-    False (module docstring)."""
+    """:func:`update_cells_serial` over blocks of ``UPDATE_BLOCK`` cells, so that the values its
+    four loops hand on (``work``, (11, >= min(cells, UPDATE_BLOCK))) and the cell arrays they
+    share stay in cache; in plane strain with the bulk q with both flags as the constant False
+    (module docstring).  Every cell sees the same operations and the viscous heat is summed in
+    cell order, as in one call.  After a bad cell the other blocks are still updated; the first
+    failing block's first bad cell is returned."""
+    nc = conn.shape[0]
+    bs = max(1, min(nc, UPDATE_BLOCK))
+    wb = work.reshape(-1)[:11 * bs].reshape(11, bs)
+    dtmin = 1e300
+    qv = 0.0
+    bad = -1
+    code = ERR_NONE
+    for b0 in range(0, nc, bs):
+        b1 = min(b0 + bs, nc)
+        dtb, badb, codeb, qv = _update_block(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table,
+                                             cmass[b0:b1], vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1],
+                                             q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1],
+                                             temp[b0:b1], shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl,
+                                             dvmax, dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
+                                             vcorner[b0:b1], vx_old, vy_old, dtv, wb, mrec, qv)
+        if badb >= 0:
+            if bad < 0:
+                bad = b0 + badb
+                code = codeb
+        else:
+            dtmin = min(dtmin, dtb)
+    if bad >= 0:
+        return 0.0, bad, code, qv
+    return dtmin, -1, ERR_NONE, qv
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+                  sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0):
+    """:func:`update_cells_serial` with the literal flags of plane strain with the bulk q."""
     if axi or qedge:
         return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
                                    q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
-                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
+                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0)
     return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                                sxx, syy, sxy, eps_p, temp, shear, yld, cs, False, dt, cq, cl, cfl, dvmax, dtcell,
-                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
+                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0)
 
 
 @njit(cache=True, **NO_REFCOUNT)
