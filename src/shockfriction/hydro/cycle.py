@@ -30,7 +30,8 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    row (docs/theory/fused-cycle.md).
 
 On one thread, without interfaces and when the row (if any) has no probes or observers, steps 1-6
-are one call (:func:`~shockfriction.hydro.kernels.cycle_serial`, the same kernels in the same order).
+are one call (:func:`~shockfriction.hydro.kernels.cycle_serial`: the same operations in the same order, steps
+3 and 5 in one pass over the nodes).
 
 Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
 leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/hydrocode.md, sec. 5).
@@ -118,15 +119,21 @@ class Simulation:
         self._corner = np.zeros((nc, 8))
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
-        # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps)
-        # and the per-material reciprocals that the update computes first
-        self._scratch = (np.empty((11, nc)), np.empty((s.props.shape[0], K.N_MREC)))
+        # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps;
+        # the serial update goes over blocks of K.UPDATE_BLOCK cells: one block's worth) and the per-material
+        # reciprocals that the update computes first
+        width = nc if self.parallel else max(1, min(nc, K.UPDATE_BLOCK))
+        self._scratch = (np.empty((11, width)), np.empty((s.props.shape[0], K.N_MREC)))
         self._errcell = np.zeros(nc, dtype=np.int64)
         if self.parallel:
             threading_policy.use_threads(self.threads)
             self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
+        # the constraints of each constrained node (bc_nodes ascending), in list order: for the node pass
+        order = np.argsort(c.node, kind="stable").astype(np.int64)
+        self._bc_ptr = np.searchsorted(c.node[order], np.append(self._bc_nodes, nn)).astype(np.int64)
+        self._bc_cons = order
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
         self._grp = (problem.groups.ptr, problem.groups.nodes)
         s.dt = self._first_time_step()
@@ -327,9 +334,9 @@ class Simulation:
             s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl, self.shear_visc,
             *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass, record,
             *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre, self._vy_pre, s.mass_own,
-            *self._cons, self._bc_nodes, self._jx_bc_prev, self._jy_bc_prev, dt, self._x_half, self._y_half, s.mat,
-            s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl,
-            self.dvmax, s.damage, *self._scratch)
+            *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons, self._jx_bc_prev, self._jy_bc_prev, dt,
+            self._x_half, self._y_half, s.mat, s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell,
+            self._errcell, self.cfl, self.dvmax, s.damage, *self._scratch)
         en = s.energy
         if self._cons[0].shape[0]:
             en.boundary_work += wbc
@@ -367,13 +374,15 @@ class Simulation:
         if self.parallel:
             K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
         # 6 cells (serial: 5 and 6 in one call)
-        update = K.update_cells_parallel if self.parallel else K.advance_serial
-        dtn, bad, code, qv = update(
-            s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
-            s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
-            s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
-            self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
-            self._vx_old, self._vy_old, s.dt_velocity, *self._scratch)
+        args = (s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+                s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+                s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
+                self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
+                self._vx_old, self._vy_old, s.dt_velocity, *self._scratch)
+        if self.parallel:
+            dtn, bad, code, qv = K.update_cells_parallel(*args, 0.0)
+        else:
+            dtn, bad, code, qv = K.advance_serial(*args)
         self._end_step(dt, dtn, bad, code, qv)
 
     def _end_step(self, dt: float, dtn: float, bad: int, code: int, qv: float) -> None:

@@ -520,9 +520,12 @@ def material_run_end(mat, c0, nc):
     return c
 
 
+UPDATE_BLOCK = 2048  # cells per block of the serial update (update_serial)
+
+
 def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
-                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
+                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0):
     """The cycle's cell pass (step 6): advance every cell from t^n to t^{n+1}.
 
     Per cell: volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation and radial
@@ -533,7 +536,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
     With ``qedge`` the artificial viscosity is the edge viscosity of the force kernel (q = 0 here).
     ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py).
     (xha, yha): the mid-step node positions x^{n+1/2} (:func:`move_nodes`), (x1a, y1a): x^{n+1}.
-    Returns (min stable dt, first bad cell or -1, its error code, the viscous heat put in);
+    Returns (min stable dt, first bad cell or -1, its error code, qv0 + the viscous heat put in);
     errcell[c] holds the code of a bad cell (only bad cells are written).
 
     Four loops over the cells, each a short chain of dependent divisions and roots that the
@@ -554,7 +557,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
     ntab = table.shape[1]
     nc = conn.shape[0]
     bad = nc
-    qv = 0.0
+    qv = qv0
     for m in range(props.shape[0]):
         g0m = props[m, P_G0]
         mrec[m, R_IG0] = 1.0 / g0m if g0m != 0.0 else 0.0
@@ -882,22 +885,129 @@ update_cells_parallel = njit(cache=True, parallel=True, error_model="numpy")(_tw
 
 
 @njit(cache=True, **NO_REFCOUNT)
+def advance_and_move(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
+                     bc_ptr, bc_cons, record, x, y, dt, x_half, y_half):
+    """Steps 3 and 5 of a cycle without interfaces in one pass over the nodes, node by node:
+    :func:`advance_velocities`, on a constrained node v* into (vx_pre, vy_pre) and its constraints
+    (:func:`apply_constraints`, in list order), with ``record`` the node's term of
+    :func:`kinetic_energy_product`, then :func:`move_nodes`.  The same operations in the same order
+    per node as those kernels, the sum in node order.  ``bc_nodes`` (ascending) are the
+    constrained nodes, ``bc_cons[bc_ptr[k]:bc_ptr[k + 1]]`` the constraints of ``bc_nodes[k]`` in
+    list order.  Returns the leapfrog kinetic energy at t^n if ``record`` (else 0)."""
+    s = 0.0
+    kb = 0
+    nb = bc_nodes.shape[0]
+    nxt = bc_nodes[0] if nb else -1
+    for n in range(vx.shape[0]):
+        u = vx[n]
+        w = vy[n]
+        vx_old[n] = u
+        vy_old[n] = w
+        a = dtv / mass[n]
+        u1 = u + a * fx[n]
+        w1 = w + a * fy[n]
+        if n == nxt:
+            vx_pre[n] = u1
+            vy_pre[n] = w1
+            for j in range(bc_ptr[kb], bc_ptr[kb + 1]):
+                k = bc_cons[j]
+                d = u1 * cnx[k] + w1 * cny[k] - cval[k]
+                if d != 0.0:
+                    u1 += -d * cnx[k]
+                    w1 += -d * cny[k]
+            kb += 1
+            nxt = bc_nodes[kb] if kb < nb else -1
+        vx[n] = u1
+        vy[n] = w1
+        if record:
+            s += mass_own[n] * (u * u1 + w * w1)
+        p = x[n]
+        r = y[n]
+        p1 = p + dt * u1
+        r1 = r + dt * w1
+        x[n] = p1
+        y[n] = r1
+        x_half[n] = 0.5 * (p + p1)
+        y_half[n] = 0.5 * (r + r1)
+    return 0.5 * s
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
+                  scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record):
+    """:func:`cell_forces_serial` (scattered into fx, fy), in plane strain with the bulk q with both
+    flags as the constant False (module docstring)."""
+    if axi or qedge:
+        return cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq,
+                                  cl, svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass,
+                                  record)
+    return cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, False, cq, cl,
+                              svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+                  sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
+    """:func:`update_cells_serial` over blocks of ``UPDATE_BLOCK`` cells, so that the values its
+    four loops hand on (``work``, (11, >= min(cells, UPDATE_BLOCK))) and the cell arrays they
+    share stay in cache; in plane strain with the bulk q with both flags as the constant False
+    (module docstring).  Every cell sees the same operations and the viscous heat is summed in
+    cell order, as in one call.  After a bad cell the other blocks are still updated; the first
+    failing block's first bad cell is returned."""
+    nc = conn.shape[0]
+    bs = max(1, min(nc, UPDATE_BLOCK))
+    wb = work.reshape(-1)[:11 * bs].reshape(11, bs)
+    dtmin = 1e300
+    qv = 0.0
+    bad = -1
+    code = ERR_NONE
+    for b0 in range(0, nc, bs):
+        b1 = min(b0 + bs, nc)
+        dtb, badb, codeb, qv = _update_block(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table,
+                                             cmass[b0:b1], vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1],
+                                             q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1],
+                                             temp[b0:b1], shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl,
+                                             dvmax, dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
+                                             vcorner[b0:b1], vx_old, vy_old, dtv, wb, mrec, qv)
+        if badb >= 0:
+            if bad < 0:
+                bad = b0 + badb
+                code = codeb
+        else:
+            dtmin = min(dtmin, dtb)
+    if bad >= 0:
+        return 0.0, bad, code, qv
+    return dtmin, -1, ERR_NONE, qv
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+                  sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0):
+    """:func:`update_cells_serial` with the literal flags of plane strain with the bulk q."""
+    if axi or qedge:
+        return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
+                                   q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
+                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0)
+    return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
+                               sxx, syy, sxy, eps_p, temp, shear, yld, cs, False, dt, cq, cl, cfl, dvmax, dtcell,
+                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0)
+
+
+@njit(cache=True, **NO_REFCOUNT)
 def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
                       scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes,
                       mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev,
                       jy_prev):
     """Steps 1-3 of a serial cycle without interfaces (this step or the last) in one call:
-    :func:`cell_forces_serial`, :func:`sum_groups`, :func:`advance_velocities`,
+    :func:`forces_serial`, :func:`sum_groups`, :func:`advance_velocities`,
     :func:`apply_constraints`, the constraints' :func:`impulse_work` over ``bc_nodes`` (0 without
     constraints) and, with ``record``, :func:`kinetic_energy_product`, in the order of
     ``Simulation._velocity_stage``.  Returns (internal energy at t^n if ``record``, boundary work,
     leapfrog kinetic energy at t^n if ``record``)."""
-    if axi or qedge:
-        ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
-                                svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
-    else:  # plane strain, bulk q: the flags as constants (module docstring)
-        ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, False, cq, cl,
-                                svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
+    ie = forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                       scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record)
     if grp_ptr.shape[0] > 1:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
     # v* is needed only where the constraints act (their jumps v - v*): kept on bc_nodes alone
@@ -922,35 +1032,40 @@ def advance_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass,
                    sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
                    heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
     """Steps 5-6 in one call: :func:`move_nodes` (x^{n+1/2} into x_half, y_half), then
-    :func:`update_cells_serial` (same arguments and result)."""
+    :func:`update_serial` (same arguments and result)."""
     move_nodes(x, y, vx, vy, dt, x_half, y_half)
-    if axi or qedge:
-        return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
-                                   q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
-                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
-    # plane strain, bulk q: the flags as constants (module docstring)
-    return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
-                               sxx, syy, sxy, eps_p, temp, shear, yld, cs, False, dt, cq, cl, cfl, dvmax, dtcell,
-                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
+    return update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx,
+                         syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge,
+                         dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                  scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
-                 vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev, jy_prev, dt,
-                 x_half, y_half, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work, mrec):
+                 vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes, bc_ptr, bc_cons, jx_prev, jy_prev,
+                 dt, x_half, y_half, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work,
+                 mrec):
     """One whole serial cycle without interfaces, the viscous heat in the cell update (no history row
-    with probes or observers this cycle): :func:`velocities_serial` then :func:`advance_serial`, one
-    call instead of seven.  Returns (internal energy at t^n (``record``), boundary work, leapfrog
-    kinetic energy at t^n (``record``), min stable dt, first bad cell or -1, its code, viscous heat)."""
-    ie, wbc, ke = velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq,
-                                    cl, svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record,
-                                    grp_ptr, grp_nodes, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode,
-                                    cnx, cny, cval, bc_nodes, jx_prev, jy_prev)
-    dtn, bad, code, qv = advance_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el,
-                                        p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
-                                        dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old, dtv, work,
-                                        mrec)
+    with probes or observers this cycle), in three passes: :func:`forces_serial` (and
+    :func:`sum_groups`), :func:`advance_and_move` (velocities, constraints, kinetic energy,
+    positions: one pass over the nodes), the constraints' :func:`impulse_work`, then
+    :func:`update_serial`.  The same operations in the same order as :func:`velocities_serial`
+    then :func:`advance_serial`.  Returns (internal energy at t^n (``record``), boundary work,
+    leapfrog kinetic energy at t^n (``record``), min stable dt, first bad cell or -1, its code,
+    viscous heat)."""
+    ie = forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                       scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record)
+    if grp_ptr.shape[0] > 1:
+        sum_groups(fx, fy, grp_ptr, grp_nodes)
+    ke = advance_and_move(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval,
+                          bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half)
+    wbc = 0.0
+    if bc_cons.shape[0]:
+        wbc = impulse_work(bc_nodes, mass_own, vx_old, vy_old, vx, vy, vx_pre, vy_pre, jx_prev, jy_prev, False,
+                           vx_pre, vy_pre)
+    dtn, bad, code, qv = update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el,
+                                       p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
+                                       dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old, dtv, work, mrec)
     return ie, wbc, ke, dtn, bad, code, qv
 
 

@@ -1,0 +1,80 @@
+"""The one-thread cycle's fused passes do exactly what the separate kernels do (docs/theory/fused-cycle.md,
+"Node pass and update blocks"): the node pass (velocities, constraints, kinetic energy, positions) and the
+cell update over blocks of ``UPDATE_BLOCK`` cells, byte for byte, failures included."""
+
+import numpy as np
+import pytest
+
+from shockfriction.hydro import kernels as K
+from shockfriction.hydro.api import prepare
+
+N = 60  # 3600 cells: two blocks of the update, the second one partial
+assert K.UPDATE_BLOCK < N * N < 2 * K.UPDATE_BLOCK
+
+
+def block_deck(probes: bool) -> dict:
+    deck = {"title": "blocks", "time": {"end": "1 ms"},
+            "bodies": [{"name": "b", "material": "Al6061-T6", "strength": "scg", "velocity": ["0 m/s", "-500 m/s"],
+                        "mesh": {"corners": [["0 mm", "0 mm"], ["6 mm", "0 mm"], ["6 mm", "6 mm"], ["0 mm", "6 mm"]],
+                                 "nx": N, "ny": N},
+                        # the corner node (0, 0) carries two constraints, applied in list order
+                        "boundary": {"bottom": "symmetry", "left": "symmetry"}}]}
+    if probes:
+        deck["probes"] = [{"name": "c", "body": "b", "cell": [3, 3], "quantities": ["p"]}]
+    return deck
+
+
+def test_node_pass_matches_the_separate_kernels():
+    """Without probes every cycle is the fused one (one pass over the nodes); a probe row every cycle
+    takes the staged path (advance_velocities, apply_constraints, kinetic_energy_product, move_nodes)."""
+    fused, staged = prepare(block_deck(False), threads=1), prepare(block_deck(True), threads=1)
+    for _ in range(40):
+        fused.step()
+        staged.step()
+    a, b = fused.state, staged.state
+    for name in ("x", "y", "vx", "vy", "e", "e_el", "pressure", "sxx", "eps_p", "temperature", "fx"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert a.dt == b.dt
+    ea, eb = np.array(fused.energy_rows), np.array(staged.energy_rows)
+    assert np.array_equal(ea, eb)
+    assert a.eps_p.max() > 0 and a.energy.boundary_work != 0.0
+
+
+def update_args(sim) -> list:
+    s = sim.state
+    return [s.conn, sim._x_half, sim._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
+            s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
+            s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, s.dt, sim.cq, sim.cl, sim.cfl,
+            sim.dvmax, sim._dtcell, sim._errcell, sim.qedge, s.damage, True, sim._vcorner, sim._vx_old,
+            sim._vy_old, s.dt_velocity]
+
+
+@pytest.mark.parametrize("broken", [None, "inverted", "nan"])
+def test_update_blocks_match_one_call(broken):
+    """update_serial (blocks) against update_cells_serial over all cells at once: the same state, step,
+    viscous heat and, with a bad cell in the second block, the same cell, code and heat."""
+    sim = prepare(block_deck(False), threads=1)
+    for _ in range(10):
+        sim.step()
+    s = sim.state
+    K.move_nodes(s.x, s.y, s.vx, s.vy, s.dt, sim._x_half, sim._y_half)
+    bad_cell = K.UPDATE_BLOCK + 100
+    if broken == "inverted":  # a node of that cell thrown across the cell
+        n = s.conn[bad_cell, 2]
+        s.x[n] -= 1e-3
+        sim._x_half[n] -= 1e-3
+    elif broken == "nan":
+        s.e[bad_cell] = np.nan
+    one = [a.copy() if isinstance(a, np.ndarray) else a for a in update_args(sim)]
+    blocks = [a.copy() if isinstance(a, np.ndarray) else a for a in update_args(sim)]
+    r_one = K.update_cells_serial(*one, np.empty((11, s.n_cells)), np.empty((s.props.shape[0], K.N_MREC)), 0.0)
+    r_blocks = K.update_serial(*blocks, np.empty((11, K.UPDATE_BLOCK)), np.empty((s.props.shape[0], K.N_MREC)))
+    assert r_one == r_blocks
+    if broken is None:
+        assert r_one[1] == -1 and r_one[3] > 0.0
+        for u, v in zip(one, blocks):
+            if isinstance(u, np.ndarray):
+                assert np.array_equal(u, v, equal_nan=True)
+    else:
+        assert r_one[1] == bad_cell
+        assert r_one[2] == (K.ERR_INVERTED if broken == "inverted" else K.ERR_NAN)
