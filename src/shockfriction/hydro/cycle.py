@@ -116,7 +116,8 @@ class Simulation:
         self._all_nodes = np.arange(nn, dtype=np.int64)
         self._bc_nodes = np.unique(problem.constraints.node).astype(np.int64)
         self._finished = False
-        self._corner = np.zeros((nc, 8))
+        # the parallel force pass's corner forces; the serial one's block scratch
+        self._corner = np.zeros((nc, 8)) if self.parallel else np.zeros(K.FORCE_SCRATCH)
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
         # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps;
@@ -208,7 +209,7 @@ class Simulation:
         ie = forces(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
                     s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
                     self.shear_visc, *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy,
-                    not self.parallel, s.e, s.e_el, s.cell_mass, want_ie and not self.parallel)
+                    s.e, s.e_el, s.cell_mass, want_ie and not self.parallel)
         if self.parallel:
             if want_ie:
                 ie = K.internal_energy(s.e, s.e_el, s.cell_mass)

@@ -39,7 +39,7 @@ def bvec_planar(x0, x1, x2, x3, y0, y1, y2, y3):
             0.5 * ((x2 - x0) * (y3 - y1) - (x3 - x1) * (y2 - y0)))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3):
     """Axisymmetric (x = r, per radian): (bx0..3, by0..3, h0..3, V) in closed form.
 

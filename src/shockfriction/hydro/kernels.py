@@ -4,8 +4,9 @@ two passes over the cells and two over the nodes (docs/theory/fused-cycle.md).
 * :func:`cell_forces_serial` / :func:`cell_forces_parallel` (the force pass): nodal forces
   F^n from the cell stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the
   velocity-dependent forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge
-  viscosity, optional shear viscosity), summed into the nodes in the same loop (serial) or
-  by :func:`gather_forces` (parallel, race-free); the velocity-dependent part is kept per
+  viscosity, optional shear viscosity), :func:`cell_corner_forces` per cell; serial: per block
+  of cells, a loop vectorized across the cells, then summed into the nodes in cell order;
+  parallel: summed by :func:`gather_forces` (race-free); the velocity-dependent part is kept per
   corner for the viscous heat, the kinetic energy those forces remove over the step, put
   into the cells by :func:`viscous_cell_heat` (in the cell update, or in
   :func:`viscous_heat_serial` / ``_parallel`` on the cycles that write a history row).
@@ -26,7 +27,8 @@ two passes over the cells and two over the nodes (docs/theory/fused-cycle.md).
   axisymmetric and edge-viscosity code (and the copies its branches cost), the same arithmetic.
 
 The serial and parallel variants are the same Python function compiled twice
-(``prange`` is ``range`` without ``parallel=True``); per-cell helpers take and return
+(``prange`` is ``range`` without ``parallel=True``), except the force pass, whose two kernels
+share the per-cell :func:`cell_corner_forces`; per-cell helpers take and return
 scalars only (no array arguments: no reference counting in the inner loops) and are inlined
 (``inline="always"``); the serial kernels are compiled without reference counting.
 Every kernel takes plain arrays and floats; sign convention: compression positive.
@@ -53,7 +55,7 @@ from shockfriction.hydro.shear_viscosity import shear_viscosity_forces
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.hydro.spall import spall_damage
 from shockfriction.jit_bits import f64_bits, f64_from_bits
-from shockfriction.jit_options import NO_REFCOUNT
+from shockfriction.jit_options import NO_REFCOUNT, VECTORIZE
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
 
 def _twin(func, suffix: str):
@@ -113,192 +115,237 @@ def edge_viscosity(xa, ya, xb, yb, ua, va, ub, vb, xc, yc, rho, c, cq, cl, axi):
     return f * ex, f * ey, f * dvn
 
 
-def _cell_forces_impl(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
-                      svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, scatter, e, e_el, cmass, want_ie):
-    """One pass over the cells for the nodal forces F^n (the cycle's step 1).
+@njit(cache=True, inline="always")
+def cell_corner_forces(xs, ys, us, ws, s_xx, s_yy, a_xy, pc, qc, rc, cc, gc, yc, axi, hg, qedge, cq, cl, svisc, scl,
+                       scq, elastic_only):
+    """One cell's corner forces at x^n: (f0..f3, g0..g3, vf0..vf3, vg0..vg3), (f_i, g_i) the total
+    force on corner i, -sigma^n . b_i (sigma^n = S^n - (P^n + q^{n-1/2}) 1) plus the velocity-dependent
+    (vf_i, vg_i) on v^{n-1/2}: Flanagan-Belytschko hourglass, the edge viscosity (``qedge``,
+    :func:`edge_viscosity`) and the shear viscosity (``svisc``,
+    :func:`~shockfriction.hydro.shear_viscosity.shear_viscosity_forces`).
 
-    Per cell, at x^n: the stress corner forces -sigma^n . b_i (sigma^n = S^n - (P^n + q^{n-1/2}) 1),
-    plus the velocity-dependent ones on v^{n-1/2}: Flanagan-Belytschko hourglass, the edge
-    viscosity (``qedge``, :func:`edge_viscosity`) and the shear viscosity (``svisc``,
-    :func:`~shockfriction.hydro.shear_viscosity.shear_viscosity_forces`).  The velocity-dependent
-    part goes to ``vcorner[c, 0:8]`` (fx0..fx3, fy0..fy3) for the viscous heat.  With ``scatter``
-    (serial kernel only) the corner forces are summed into the nodal forces fx, fy here (in
-    cell order); otherwise (parallel) they are stored in ``corner`` for :func:`gather_forces`.
+    ``xs``, ``ys`` the corners' positions x^n and ``us``, ``ws`` their velocities v^{n-1/2} (4-tuples);
+    the cell's deviator (s_xx, s_yy, a_xy), pressure ``pc``, q ``qc``, density ``rc``, sound speed
+    ``cc``, shear modulus ``gc`` and flow stress ``yc``."""
+    x0, x1, x2, x3 = xs
+    y0, y1, y2, y3 = ys
+    u0, u1, u2, u3 = us
+    w0, w1, w2, w3 = ws
+    pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3, area = bvec_planar(x0, x1, x2, x3, y0, y1, y2, y3)
+    if axi:
+        bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, vol = bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3)
+    else:
+        bx0, bx1, bx2, bx3, by0, by1, by2, by3 = pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3
+        h0 = h1 = h2 = h3 = 0.0
+        vol = area
+    # 1/area and sqrt(area): hourglass and shear viscosity
+    inva = 1.0
+    sqa = 0.0
+    if area > 0.0:
+        inva = 1.0 / area
+        sqa = math.sqrt(area)
+    # velocity-dependent (viscous) corner forces
+    vf0 = vf1 = vf2 = vf3 = 0.0
+    vg0 = vg1 = vg2 = vg3 = 0.0
+    if hg > 0.0 and area > 0.0:
+        # Flanagan-Belytschko viscous hourglass: gamma = Gamma - (Gamma.x) b_x/A - (Gamma.y) b_y/A
+        gx = x0 - x1 + x2 - x3
+        gy = y0 - y1 + y2 - y3
+        gam0 = 1.0 - (gx * pbx0 + gy * pby0) * inva
+        gam1 = -1.0 - (gx * pbx1 + gy * pby1) * inva
+        gam2 = 1.0 - (gx * pbx2 + gy * pby2) * inva
+        gam3 = -1.0 - (gx * pbx3 + gy * pby3) * inva
+        hu = gam0 * u0 + gam1 * u1 + gam2 * u2 + gam3 * u3
+        hv = gam0 * w0 + gam1 * w1 + gam2 * w2 + gam3 * w3
+        w = 0.25 * (x0 + x1 + x2 + x3) if axi else 1.0
+        coef = 0.25 * hg * rc * cc * sqa * w
+        vf0 -= coef * gam0 * hu
+        vf1 -= coef * gam1 * hu
+        vf2 -= coef * gam2 * hu
+        vf3 -= coef * gam3 * hu
+        vg0 -= coef * gam0 * hv
+        vg1 -= coef * gam1 * hv
+        vg2 -= coef * gam2 * hv
+        vg3 -= coef * gam3 * hv
+    if qedge:
+        xc = 0.25 * (x0 + x1 + x2 + x3)
+        yc_ = 0.25 * (y0 + y1 + y2 + y3)
+        ex, ey, _ = edge_viscosity(x0, y0, x1, y1, u0, w0, u1, w1, xc, yc_, rc, cc, cq, cl, axi)
+        vf0 += ex
+        vg0 += ey
+        vf1 -= ex
+        vg1 -= ey
+        ex, ey, _ = edge_viscosity(x1, y1, x2, y2, u1, w1, u2, w2, xc, yc_, rc, cc, cq, cl, axi)
+        vf1 += ex
+        vg1 += ey
+        vf2 -= ex
+        vg2 -= ey
+        ex, ey, _ = edge_viscosity(x2, y2, x3, y3, u2, w2, u3, w3, xc, yc_, rc, cc, cq, cl, axi)
+        vf2 += ex
+        vg2 += ey
+        vf3 -= ex
+        vg3 -= ey
+        ex, ey, _ = edge_viscosity(x3, y3, x0, y0, u3, w3, u0, w0, xc, yc_, rc, cc, cq, cl, axi)
+        vf3 += ex
+        vg3 += ey
+        vf0 -= ex
+        vg0 -= ey
+    on = False
+    sf0 = sf1 = sf2 = sf3 = sg0 = sg1 = sg2 = sg3 = 0.0
+    if svisc:
+        invv = (1.0 / vol if vol > 0.0 else 1.0) if axi else inva
+        on, sf0, sf1, sf2, sf3, sg0, sg1, sg2, sg3 = shear_viscosity_forces(
+            gc, rc, s_xx, s_yy, a_xy, yc, elastic_only, scl, scq, area, vol, invv, sqa,
+            (bx0, bx1, bx2, bx3), (by0, by1, by2, by3), (h0, h1, h2, h3), us, ws)
+    # stress corner forces -sigma^n . b_i, computed last (shorter live ranges), then
+    # (stress + hourglass/edge) + shear viscosity, the order of the sums as before
+    ptot = pc + qc
+    a_xx = s_xx - ptot
+    a_yy = s_yy - ptot
+    f0 = -(a_xx * bx0 + a_xy * by0)
+    f1 = -(a_xx * bx1 + a_xy * by1)
+    f2 = -(a_xx * bx2 + a_xy * by2)
+    f3 = -(a_xx * bx3 + a_xy * by3)
+    if axi:  # the hoop stress on h_i (0 in plane strain): -(a + b + c) = -(a + b) - c exactly
+        a_tt = -(s_xx + s_yy) - ptot
+        f0 -= a_tt * h0
+        f1 -= a_tt * h1
+        f2 -= a_tt * h2
+        f3 -= a_tt * h3
+    g0 = -(a_xy * bx0 + a_yy * by0)
+    g1 = -(a_xy * bx1 + a_yy * by1)
+    g2 = -(a_xy * bx2 + a_yy * by2)
+    g3 = -(a_xy * bx3 + a_yy * by3)
+    f0 += vf0
+    f1 += vf1
+    f2 += vf2
+    f3 += vf3
+    g0 += vg0
+    g1 += vg1
+    g2 += vg2
+    g3 += vg3
+    if on:
+        f0 += sf0
+        f1 += sf1
+        f2 += sf2
+        f3 += sf3
+        g0 += sg0
+        g1 += sg1
+        g2 += sg2
+        g3 += sg3
+        vf0 += sf0
+        vf1 += sf1
+        vf2 += sf2
+        vf3 += sf3
+        vg0 += sg0
+        vg1 += sg1
+        vg2 += sg2
+        vg3 += sg3
+    return f0, f1, f2, f3, g0, g1, g2, g3, vf0, vf1, vf2, vf3, vg0, vg1, vg2, vg3
+
+
+# the serial force pass works on blocks of FORCE_BLOCK cells; its scratch (``corner`` argument) holds
+# FORCE_SCRATCH = 32 rows of FORCE_BLOCK values: the corners' x, y, vx, vy (rows 0-15), then their
+# forces f, g and viscous forces vf, vg (rows 16-31)
+FORCE_BLOCK = 64
+FORCE_SCRATCH = 32 * FORCE_BLOCK
+
+
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, **VECTORIZE)
+def _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl, scq,
+                 elastic_only, out):
+    """:func:`cell_corner_forces` of cells c0 .. c0 + nb - 1, corners' node values from ``nodal``
+    (row r = 4 (x, y, vx, vy) + corner, FORCE_BLOCK apart), forces into ``out`` (rows f0..f3, g0..g3,
+    vf0..vf3, vg0..vg3).  No calls, exits or branches that LLVM cannot predicate (``axi``, ``qedge``
+    constants; numpy's error model: no ZeroDivisionError exit, which the edge viscosity's 1/|dv| would
+    keep, |dv| > 0 there), compiled with ``VECTORIZE``: a loop vectorized across cells."""
+    B = FORCE_BLOCK
+    for j in range(nb):
+        c = np.uint64(c0 + j)
+        r = np.uint64(j)
+        xs = (nodal[r], nodal[r + B], nodal[r + 2 * B], nodal[r + 3 * B])
+        ys = (nodal[r + 4 * B], nodal[r + 5 * B], nodal[r + 6 * B], nodal[r + 7 * B])
+        us = (nodal[r + 8 * B], nodal[r + 9 * B], nodal[r + 10 * B], nodal[r + 11 * B])
+        ws = (nodal[r + 12 * B], nodal[r + 13 * B], nodal[r + 14 * B], nodal[r + 15 * B])
+        (out[r], out[r + B], out[r + 2 * B], out[r + 3 * B], out[r + 4 * B], out[r + 5 * B], out[r + 6 * B],
+         out[r + 7 * B], out[r + 8 * B], out[r + 9 * B], out[r + 10 * B], out[r + 11 * B], out[r + 12 * B],
+         out[r + 13 * B], out[r + 14 * B], out[r + 15 * B]) = cell_corner_forces(
+            xs, ys, us, ws, sxx[c], syy[c], sxy[c], p[c], q[c], rho[c], cs[c], shear[c], yld[c], axi, hg, qedge, cq,
+            cl, svisc, scl, scq, elastic_only)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                       scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, want_ie):
+    """One pass over the cells for the nodal forces F^n (the cycle's step 1), serial:
+    :func:`cell_corner_forces` per cell, the velocity-dependent part into ``vcorner[c, 0:8]`` (fx0..fx3,
+    fy0..fy3) for the viscous heat, the forces summed into fx, fy in cell order.  Per block of
+    FORCE_BLOCK cells: the corners' node values gathered into ``corner`` (the scratch, FORCE_SCRATCH
+    values), the forces by :func:`_force_block` (vectorized across cells), then the scatter.
     Returns the internal energy sum_c m_c (e_c + e_el,c) at t^n when ``want_ie`` (else 0)."""
-    if scatter:
-        for n in range(fx.shape[0]):
-            fx[n] = 0.0
-            fy[n] = 0.0
+    B = FORCE_BLOCK
+    nodal = corner[:16 * B]
+    out = corner[16 * B:32 * B]
+    for n in range(fx.shape[0]):
+        fx[n] = 0.0
+        fy[n] = 0.0
     ie = 0.0
+    nc = conn.shape[0]
+    for c0 in range(0, nc, B):
+        nb = min(B, nc - c0)
+        for j in range(nb):
+            c = np.uint64(c0 + j)
+            for k in range(4):
+                n = np.uint64(conn[c, k])
+                nodal[j + k * B] = x[n]
+                nodal[j + (4 + k) * B] = y[n]
+                nodal[j + (8 + k) * B] = vx[n]
+                nodal[j + (12 + k) * B] = vy[n]
+        # the flags as constants (each case compiled apart, module docstring): a runtime flag keeps
+        # branches in the loop that LLVM does not vectorize
+        if axi and qedge:
+            _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, True, hg, True, cq, cl, svisc, scl,
+                         scq, elastic_only, out)
+        elif axi:
+            _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, True, hg, False, cq, cl, svisc, scl,
+                         scq, elastic_only, out)
+        elif qedge:
+            _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, True, cq, cl, svisc, scl,
+                         scq, elastic_only, out)
+        else:
+            _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, False, cq, cl, svisc, scl,
+                         scq, elastic_only, out)
+        for j in range(nb):
+            c = np.uint64(c0 + j)
+            if want_ie:
+                ie += cmass[c] * (e[c] + e_el[c])
+            for k in range(8):
+                vcorner[c, k] = out[j + (8 + k) * B]
+            for k in range(4):
+                fx[np.uint64(conn[c, k])] += out[j + k * B]
+            for k in range(4):
+                fy[np.uint64(conn[c, k])] += out[j + (4 + k) * B]
+    return ie
+
+
+@njit(cache=True, parallel=True)
+def cell_forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                         scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, want_ie):
+    """:func:`cell_forces_serial` in parallel over the cells: the forces of cell c go to ``corner[c, 0:8]``
+    (fx0..fx3, fy0..fy3) for :func:`gather_forces` (race-free); fx, fy, e, e_el, cmass and ``want_ie``
+    unused (0 returned)."""
     for c in prange(conn.shape[0]):
-        if want_ie:
-            ie += cmass[c] * (e[c] + e_el[c])
         n0 = np.uint64(conn[c, 0])
         n1 = np.uint64(conn[c, 1])
         n2 = np.uint64(conn[c, 2])
         n3 = np.uint64(conn[c, 3])
-        x0 = x[n0]
-        x1 = x[n1]
-        x2 = x[n2]
-        x3 = x[n3]
-        y0 = y[n0]
-        y1 = y[n1]
-        y2 = y[n2]
-        y3 = y[n3]
-        u0 = vx[n0]
-        u1 = vx[n1]
-        u2 = vx[n2]
-        u3 = vx[n3]
-        w0 = vy[n0]
-        w1 = vy[n1]
-        w2 = vy[n2]
-        w3 = vy[n3]
-        pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3, area = bvec_planar(x0, x1, x2, x3, y0, y1, y2, y3)
-        if axi:
-            bx0, bx1, bx2, bx3, by0, by1, by2, by3, h0, h1, h2, h3, vol = bvec_axi(x0, x1, x2, x3, y0, y1, y2, y3)
-        else:
-            bx0, bx1, bx2, bx3, by0, by1, by2, by3 = pbx0, pbx1, pbx2, pbx3, pby0, pby1, pby2, pby3
-            h0 = h1 = h2 = h3 = 0.0
-            vol = area
-        # 1/area and sqrt(area): hourglass and shear viscosity
-        inva = 1.0
-        sqa = 0.0
-        if area > 0.0:
-            inva = 1.0 / area
-            sqa = math.sqrt(area)
-        s_xx = sxx[c]
-        s_yy = syy[c]
-        a_xy = sxy[c]
-        # velocity-dependent (viscous) corner forces
-        vf0 = vf1 = vf2 = vf3 = 0.0
-        vg0 = vg1 = vg2 = vg3 = 0.0
-        if hg > 0.0 and area > 0.0:
-            # Flanagan-Belytschko viscous hourglass: gamma = Gamma - (Gamma.x) b_x/A - (Gamma.y) b_y/A
-            gx = x0 - x1 + x2 - x3
-            gy = y0 - y1 + y2 - y3
-            gam0 = 1.0 - (gx * pbx0 + gy * pby0) * inva
-            gam1 = -1.0 - (gx * pbx1 + gy * pby1) * inva
-            gam2 = 1.0 - (gx * pbx2 + gy * pby2) * inva
-            gam3 = -1.0 - (gx * pbx3 + gy * pby3) * inva
-            hu = gam0 * u0 + gam1 * u1 + gam2 * u2 + gam3 * u3
-            hv = gam0 * w0 + gam1 * w1 + gam2 * w2 + gam3 * w3
-            w = 0.25 * (x0 + x1 + x2 + x3) if axi else 1.0
-            coef = 0.25 * hg * rho[c] * cs[c] * sqa * w
-            vf0 -= coef * gam0 * hu
-            vf1 -= coef * gam1 * hu
-            vf2 -= coef * gam2 * hu
-            vf3 -= coef * gam3 * hu
-            vg0 -= coef * gam0 * hv
-            vg1 -= coef * gam1 * hv
-            vg2 -= coef * gam2 * hv
-            vg3 -= coef * gam3 * hv
-        if qedge:
-            xc = 0.25 * (x0 + x1 + x2 + x3)
-            yc = 0.25 * (y0 + y1 + y2 + y3)
-            rc = rho[c]
-            cc = cs[c]
-            ex, ey, _ = edge_viscosity(x0, y0, x1, y1, u0, w0, u1, w1, xc, yc, rc, cc, cq, cl, axi)
-            vf0 += ex
-            vg0 += ey
-            vf1 -= ex
-            vg1 -= ey
-            ex, ey, _ = edge_viscosity(x1, y1, x2, y2, u1, w1, u2, w2, xc, yc, rc, cc, cq, cl, axi)
-            vf1 += ex
-            vg1 += ey
-            vf2 -= ex
-            vg2 -= ey
-            ex, ey, _ = edge_viscosity(x2, y2, x3, y3, u2, w2, u3, w3, xc, yc, rc, cc, cq, cl, axi)
-            vf2 += ex
-            vg2 += ey
-            vf3 -= ex
-            vg3 -= ey
-            ex, ey, _ = edge_viscosity(x3, y3, x0, y0, u3, w3, u0, w0, xc, yc, rc, cc, cq, cl, axi)
-            vf3 += ex
-            vg3 += ey
-            vf0 -= ex
-            vg0 -= ey
-        on = False
-        sf0 = sf1 = sf2 = sf3 = sg0 = sg1 = sg2 = sg3 = 0.0
-        if svisc:
-            invv = (1.0 / vol if vol > 0.0 else 1.0) if axi else inva
-            on, sf0, sf1, sf2, sf3, sg0, sg1, sg2, sg3 = shear_viscosity_forces(
-                shear[c], rho[c], s_xx, s_yy, a_xy, yld[c], elastic_only, scl, scq, area, vol, invv, sqa,
-                (bx0, bx1, bx2, bx3), (by0, by1, by2, by3), (h0, h1, h2, h3), (u0, u1, u2, u3), (w0, w1, w2, w3))
-        # stress corner forces -sigma^n . b_i, computed last (shorter live ranges), then
-        # (stress + hourglass/edge) + shear viscosity, the order of the sums as before
-        ptot = p[c] + q[c]
-        a_xx = s_xx - ptot
-        a_yy = s_yy - ptot
-        f0 = -(a_xx * bx0 + a_xy * by0)
-        f1 = -(a_xx * bx1 + a_xy * by1)
-        f2 = -(a_xx * bx2 + a_xy * by2)
-        f3 = -(a_xx * bx3 + a_xy * by3)
-        if axi:  # the hoop stress on h_i (0 in plane strain): -(a + b + c) = -(a + b) - c exactly
-            a_tt = -(s_xx + s_yy) - ptot
-            f0 -= a_tt * h0
-            f1 -= a_tt * h1
-            f2 -= a_tt * h2
-            f3 -= a_tt * h3
-        g0 = -(a_xy * bx0 + a_yy * by0)
-        g1 = -(a_xy * bx1 + a_yy * by1)
-        g2 = -(a_xy * bx2 + a_yy * by2)
-        g3 = -(a_xy * bx3 + a_yy * by3)
-        f0 += vf0
-        f1 += vf1
-        f2 += vf2
-        f3 += vf3
-        g0 += vg0
-        g1 += vg1
-        g2 += vg2
-        g3 += vg3
-        if on:
-            f0 += sf0
-            f1 += sf1
-            f2 += sf2
-            f3 += sf3
-            g0 += sg0
-            g1 += sg1
-            g2 += sg2
-            g3 += sg3
-            vf0 += sf0
-            vf1 += sf1
-            vf2 += sf2
-            vf3 += sf3
-            vg0 += sg0
-            vg1 += sg1
-            vg2 += sg2
-            vg3 += sg3
-        vcorner[c, 0] = vf0
-        vcorner[c, 1] = vf1
-        vcorner[c, 2] = vf2
-        vcorner[c, 3] = vf3
-        vcorner[c, 4] = vg0
-        vcorner[c, 5] = vg1
-        vcorner[c, 6] = vg2
-        vcorner[c, 7] = vg3
-        if scatter:
-            fx[n0] += f0
-            fx[n1] += f1
-            fx[n2] += f2
-            fx[n3] += f3
-            fy[n0] += g0
-            fy[n1] += g1
-            fy[n2] += g2
-            fy[n3] += g3
-        else:
-            corner[c, 0] = f0
-            corner[c, 1] = f1
-            corner[c, 2] = f2
-            corner[c, 3] = f3
-            corner[c, 4] = g0
-            corner[c, 5] = g1
-            corner[c, 6] = g2
-            corner[c, 7] = g3
-    return ie
-
-
-cell_forces_serial = njit(cache=True, **NO_REFCOUNT)(_cell_forces_impl)
-cell_forces_parallel = njit(cache=True, parallel=True)(_twin(_cell_forces_impl, "_parallel"))
+        (corner[c, 0], corner[c, 1], corner[c, 2], corner[c, 3], corner[c, 4], corner[c, 5], corner[c, 6],
+         corner[c, 7], vcorner[c, 0], vcorner[c, 1], vcorner[c, 2], vcorner[c, 3], vcorner[c, 4], vcorner[c, 5],
+         vcorner[c, 6], vcorner[c, 7]) = cell_corner_forces(
+            (x[n0], x[n1], x[n2], x[n3]), (y[n0], y[n1], y[n2], y[n3]), (vx[n0], vx[n1], vx[n2], vx[n3]),
+            (vy[n0], vy[n1], vy[n2], vy[n3]), sxx[c], syy[c], sxy[c], p[c], q[c], rho[c], cs[c], shear[c], yld[c],
+            axi, hg, qedge, cq, cl, svisc, scl, scq, elastic_only)
+    return 0.0
 
 
 def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
@@ -933,19 +980,6 @@ def advance_and_move(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, 
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
-                  scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record):
-    """:func:`cell_forces_serial` (scattered into fx, fy), in plane strain with the bulk q with both
-    flags as the constant False (module docstring)."""
-    if axi or qedge:
-        return cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq,
-                                  cl, svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass,
-                                  record)
-    return cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, False, cq, cl,
-                              svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, True, e, e_el, cmass, record)
-
-
-@njit(cache=True, **NO_REFCOUNT)
 def update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
                   heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
@@ -1001,13 +1035,13 @@ def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
                       mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnode, cnx, cny, cval, bc_nodes, jx_prev,
                       jy_prev):
     """Steps 1-3 of a serial cycle without interfaces (this step or the last) in one call:
-    :func:`forces_serial`, :func:`sum_groups`, :func:`advance_velocities`,
+    :func:`cell_forces_serial`, :func:`sum_groups`, :func:`advance_velocities`,
     :func:`apply_constraints`, the constraints' :func:`impulse_work` over ``bc_nodes`` (0 without
     constraints) and, with ``record``, :func:`kinetic_energy_product`, in the order of
     ``Simulation._velocity_stage``.  Returns (internal energy at t^n if ``record``, boundary work,
     leapfrog kinetic energy at t^n if ``record``)."""
-    ie = forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
-                       scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record)
+    ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
+                            svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record)
     if grp_ptr.shape[0] > 1:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
     # v* is needed only where the constraints act (their jumps v - v*): kept on bc_nodes alone
@@ -1046,15 +1080,15 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
                  dt, x_half, y_half, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work,
                  mrec):
     """One whole serial cycle without interfaces, the viscous heat in the cell update (no history row
-    with probes or observers this cycle), in three passes: :func:`forces_serial` (and
+    with probes or observers this cycle), in three passes: :func:`cell_forces_serial` (and
     :func:`sum_groups`), :func:`advance_and_move` (velocities, constraints, kinetic energy,
     positions: one pass over the nodes), the constraints' :func:`impulse_work`, then
     :func:`update_serial`.  The same operations in the same order as :func:`velocities_serial`
     then :func:`advance_serial`.  Returns (internal energy at t^n (``record``), boundary work,
     leapfrog kinetic energy at t^n (``record``), min stable dt, first bad cell or -1, its code,
     viscous heat)."""
-    ie = forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
-                       scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record)
+    ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
+                            svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record)
     if grp_ptr.shape[0] > 1:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
     ke = advance_and_move(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval,
