@@ -71,7 +71,9 @@ def _star_density(p: float, state: GasState, gamma: float) -> float:
 
 def solve_star(left: GasState, right: GasState, gamma: float, tol: float = 1e-14,
                max_iter: int = 100) -> StarState:
-    """Star pressure and velocity by Newton on Toro's pressure function.
+    """Star pressure and velocity: Toro's two-rarefaction formula (eq. 4.46) when it gives
+    p* <= p_L, p_R (then it is exact), else Newton on Toro's pressure function from it
+    (``iterations`` 0 for the closed form).
 
     Raises ValueError when the data generate vacuum (pressure positivity
     condition 2 (c_L + c_R)/(gamma - 1) <= u_R - u_L).
@@ -80,23 +82,26 @@ def solve_star(left: GasState, right: GasState, gamma: float, tol: float = 1e-14
     du = right.u - left.u
     if 2.0 * (c_l + c_r) / (gamma - 1.0) <= du:
         raise ValueError("the Riemann data generate vacuum; no star region")
-    # two-rarefaction guess (Toro eq. 4.46): exact when both waves are rarefactions
+    # two-rarefaction pressure (Toro eq. 4.46): the root itself when both waves are rarefactions
+    # (p <= p_L, p_R), else Newton's start.  Near vacuum the root is tiny and the pressure function
+    # there a difference of nearly equal speeds: Newton cannot reach a relative tolerance on p
     expo = (gamma - 1.0) / (2.0 * gamma)
     p = ((c_l + c_r - 0.5 * (gamma - 1.0) * du)
          / (c_l / left.p**expo + c_r / right.p**expo)) ** (1.0 / expo)
-    p = max(p, 1e-12 * min(left.p, right.p))
-    for iteration in range(1, max_iter + 1):
-        f_l, d_l = _wave_function(p, left, gamma)
-        f_r, d_r = _wave_function(p, right, gamma)
-        p_new = p - (f_l + f_r + du) / (d_l + d_r)
-        if p_new <= 0.0:
-            p_new = 0.5 * p
-        change = abs(p_new - p) / (0.5 * (p_new + p))
-        p = p_new
-        if change < tol:
-            break
-    else:
-        raise ValueError(f"Newton on the pressure function did not converge in {max_iter} iterations")
+    iteration = 0
+    if p > min(left.p, right.p):  # a shock on one side at least: Newton from there (p > 0)
+        for iteration in range(1, max_iter + 1):
+            f_l, d_l = _wave_function(p, left, gamma)
+            f_r, d_r = _wave_function(p, right, gamma)
+            p_new = p - (f_l + f_r + du) / (d_l + d_r)
+            if p_new <= 0.0:
+                p_new = 0.5 * p
+            change = abs(p_new - p) / (0.5 * (p_new + p))
+            p = p_new
+            if change < tol:
+                break
+        else:
+            raise ValueError(f"Newton on the pressure function did not converge in {max_iter} iterations")
     f_l, _ = _wave_function(p, left, gamma)
     f_r, _ = _wave_function(p, right, gamma)
     u = 0.5 * (left.u + right.u) + 0.5 * (f_r - f_l)
