@@ -8,8 +8,9 @@ index), and per output ``/step_NNNNN/`` with node arrays ``x, y, vx, vy``, ``xy`
 sxy, szz, Y, damage`` (SI; damage >= 1: failed by spall), attribute ``time``.
 The HDF5 file is flushed after every output and closed on failure; ``fields.xmf`` is
 rewritten whole (atomically) by :meth:`FieldWriter.write_index`, which the run's outputs call
-at their next flush, just before ``summary.json`` (so that a killed run's index never lists an
-output past the summary's time), and at the close.
+at their next flush, just after ``summary.json`` (so that a killed run's index never lists an
+output past the summary's time; a kill between the two writes leaves it one flush behind, the
+outputs it does not list still complete in ``fields.h5``), and at the close.
 
 ``fields.xmf``: a temporal collection of uniform grids, each with its own Geometry
 ``XY`` (the Lagrangian mesh moves), Topology ``Quadrilateral``, node attributes

@@ -144,9 +144,11 @@ class RunOutputs:
             self.records.append()
         self._n_records = self._count_records()
         self._n_fields = pos["fields"][0] if pos["fields"] else 0
-        if self.fields is not None:
-            self.fields.write_index()  # the field index, then the summary: never ahead of it
+        # the summary, then the field index: a kill between the two atomic writes leaves the index one
+        # flush behind the summary (its grids all in fields.h5), never ahead of it
         self.write_summary(completed)
+        if self.fields is not None:
+            self.fields.write_index()
         self._last_flush = time.perf_counter()
         return pos
 
