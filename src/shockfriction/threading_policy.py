@@ -92,13 +92,15 @@ def use_threads(threads: int) -> None:
 
 
 class ThreadGovernor:
-    """Keep the parallel kernels on whichever of ``threads`` or 1 thread runs faster now.
+    """Keep whichever runs faster now: the parallel kernels on ``threads`` threads, or the serial
+    kernels (one thread; ``Simulation.use_parallel``, when called with the simulation).
 
     Called between cycles (``Simulation.between_cycles``).  The first ``2 probe`` cycles of every
     ``period`` alternate between ``threads`` threads and 1 (so that a change of the machine's load
     hits both alike); the count with the smaller median wall time per cycle is kept until the
-    next probe.  The parallel kernels give the same sums on any number of threads, so only the
-    speed changes.  ``chosen`` counts the periods won by each count."""
+    next probe.  The parallel kernels give the same sums on any number of threads, and the same
+    bytes as the serial ones, so only the speed changes.  ``chosen`` counts the periods won by
+    each count."""
 
     def __init__(self, threads: int, period: int = 100, probe: int = 3):
         self.threads = int(threads)
@@ -110,11 +112,14 @@ class ThreadGovernor:
         self._last = None
         self._samples: dict[int, list] = {}
 
-    def _set(self, threads: int) -> None:
+    def _set(self, threads: int, sim) -> None:
         import numba
 
         if threads != self.current:
-            numba.set_num_threads(threads)
+            if threads > 1:
+                numba.set_num_threads(threads)
+            if sim is not None:  # one thread: the serial kernels (faster than the parallel ones on one)
+                sim.use_parallel(threads > 1)
             self.current = threads
 
     def __call__(self, sim=None) -> None:
@@ -126,13 +131,13 @@ class ThreadGovernor:
         if pos == 0:
             self._samples = {}
         if pos < 2 * self.probe:
-            self._set(self.threads if pos % 2 == 0 else 1)
+            self._set(self.threads if pos % 2 == 0 else 1, sim)
         elif pos == 2 * self.probe:
             many = statistics.median(self._samples.get(self.threads, [math.inf]))
             one = statistics.median(self._samples.get(1, [math.inf]))
             best = self.threads if many < one else 1
             self.chosen[best] += 1
-            self._set(best)
+            self._set(best, sim)
         self._last = time.perf_counter()
 
 

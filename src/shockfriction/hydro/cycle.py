@@ -116,8 +116,11 @@ class Simulation:
         self._all_nodes = np.arange(nn, dtype=np.int64)
         self._bc_nodes = np.unique(problem.constraints.node).astype(np.int64)
         self._finished = False
-        # the parallel force pass's corner forces; the serial one's block scratch
-        self._corner = np.zeros((nc, 8)) if self.parallel else np.zeros(K.FORCE_SCRATCH)
+        # the serial force pass's block scratch; the parallel one's corner forces (a parallel run also keeps
+        # the serial scratch: its governor runs the serial kernels when one thread is faster)
+        self._corner_serial = np.zeros(K.FORCE_SCRATCH)
+        self._corner_parallel = np.zeros((nc, 8)) if self.parallel else None
+        self._corner = self._corner_parallel if self.parallel else self._corner_serial
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
         # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps;
@@ -148,12 +151,20 @@ class Simulation:
         self.observers: list[Callable[["Simulation"], None]] = []
         # called by run() between cycles (state at t^n, nothing half-updated): output writers, checkpoints
         self.between_cycles: list[Callable[["Simulation"], None]] = []
-        if self.parallel:  # 1 or self.threads threads, whichever runs faster under the machine's load
+        if self.parallel:  # the parallel kernels or the serial ones, whichever runs faster under the machine's load
             self.between_cycles.append(threading_policy.ThreadGovernor(self.threads))
         self.wall_time = 0.0
         self.guards = RunGuards(self)
         for obj in interfaces or []:
             self.register_interface(obj)
+
+    def use_parallel(self, parallel: bool) -> None:
+        """Between cycles: the parallel kernels (a run set up with threads > 1 only) or the serial
+        ones.  Both give the same bytes (sums in cell and node order), so only the speed changes."""
+        if parallel and self._corner_parallel is None:
+            raise RuntimeError("this simulation was set up for one thread")
+        self.parallel = bool(parallel)
+        self._corner = self._corner_parallel if self.parallel else self._corner_serial
 
     def reinitialize(self) -> None:
         """After editing the initial state by hand at t = 0 (``state.e``, ``vx``, ``vy``, the
