@@ -56,7 +56,7 @@ from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, she
 from shockfriction.hydro.spall import spall_damage
 from shockfriction.jit_bits import f64_bits, f64_from_bits
 from shockfriction.jit_options import NO_REFCOUNT, VECTORIZE
-from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio
+from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio_simd
 
 def _twin(func, suffix: str):
     """A copy of ``func`` under another name, so that numba's on-disk cache keeps its serial and
@@ -891,7 +891,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
             c2 = cs[c]
             irho1 = work[10, c]
             # G(P, T)/G0 in every cell (selects below, no branch per cell)
-            ratio1 = scg_shear_ratio(p[c], temp[c], sg, sh, sxi, stf)
+            ratio1 = scg_shear_ratio_simd(p[c], temp[c], sg, sh, sxi, stf)
             if skind == STRENGTH_EPP:
                 g_c = sg0
                 y_c = y_epp

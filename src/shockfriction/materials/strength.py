@@ -46,13 +46,29 @@ def exp_inline(x):
     return y * f64_from_bits((k1 + 1023) << 52) * f64_from_bits((k - k1 + 1023) << 52)
 
 
-@njit(cache=True, error_model="numpy")  # T_F - T > 0 where it divides: no zero check needed (vectorisable)
-def scg_shear_ratio(P, T, g, h, xi, T_melt):
-    """G(P, T)/G0: (1 + g P - h (T - 300)) exp(-xi T/(T_F - T)); 0 at or above T_F, never negative."""
+@njit(cache=True, inline="always", error_model="numpy")  # T_F - T > 0 where it divides: no zero check needed
+def _shear_ratio(P, T, g, h, xi, T_melt, vector):
+    """G(P, T)/G0: (1 + g P - h (T - 300)) exp(-xi T/(T_F - T)); 0 at or above T_F, never negative.
+    ``vector`` (a constant): the exponential by :func:`exp_inline` (no call: a loop can be
+    vectorised), else by libm (faster in scalar code)."""
     if T >= T_melt:
         return 0.0
-    r = (1.0 + g * P - h * (T - T_REF)) * exp_inline(-xi * T / (T_melt - T))
+    a = -xi * T / (T_melt - T)
+    r = (1.0 + g * P - h * (T - T_REF)) * (exp_inline(a) if vector else math.exp(a))
     return r if r > 0.0 else 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def scg_shear_ratio(P, T, g, h, xi, T_melt):
+    """G(P, T)/G0 (:func:`_shear_ratio`, libm's exp): scalar code, the sub-grid models."""
+    return _shear_ratio(P, T, g, h, xi, T_melt, False)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def scg_shear_ratio_simd(P, T, g, h, xi, T_melt):
+    """G(P, T)/G0 (:func:`_shear_ratio`, :func:`exp_inline`): in loops to be vectorised across
+    cells (the hydro update's moduli loop)."""
+    return _shear_ratio(P, T, g, h, xi, T_melt, True)
 
 
 @njit(cache=True)
