@@ -11,12 +11,17 @@ import pytest
 from shockfriction.hydro.api import prepare, run_dict, run_simulation
 
 
-def test_hydro_restart_is_bit_for_bit(make_strip, tmp_path):
+@pytest.mark.parametrize("serial_at_checkpoint", [False, True])
+def test_hydro_restart_is_bit_for_bit(make_strip, tmp_path, serial_at_checkpoint):
+    """``serial_at_checkpoint``: the thread governor had the serial kernels when the checkpoints were
+    written (their scratch is not the parallel one's: a restart on two threads must not take it)."""
     deck = make_strip(ny_flyer=8, ny_target=20, end="1.0 us", strength="scg", material="Cu-OFHC")
     deck["threads"] = 2
     deck["output"] = {"field_interval": "0.25 us", "checkpoint_interval": "0.3 us", "probe_every": 2}
     ref = run_dict(deck, tmp_path / "ref")
     sim = prepare(deck)
+    if serial_at_checkpoint:  # after the governor, before the outputs' hooks
+        sim.between_cycles.append(lambda s: s.use_parallel(False))
 
     def crash(s):
         if s.state.t > 0.7e-6:

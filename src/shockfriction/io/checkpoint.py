@@ -48,7 +48,10 @@ CHILDREN = {
     "SubgridInterface": ("columns",),
 }
 # set-up values that a restart takes from the deck and the command line, not from the checkpoint
-SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner"},
+# (and scratch that every cycle rewrites before reading: the force pass's corner forces, whose shape depends
+# on whether the governor had the serial or the parallel kernels at the checkpoint)
+SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner",
+                       "_corner", "_corner_serial", "_corner_parallel"},
         "ViscoplasticColumns": {"_work"}}  # scratch of the kernel
 # deck fields a restart may change: the end time, the cycle limit and the checkpoint interval
 MAY_CHANGE = {("time", "end"), ("time", "max_cycles"), ("output", "checkpoint_interval")}
