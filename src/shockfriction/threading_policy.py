@@ -13,7 +13,7 @@ parallel (prange) kernels on n threads, 0 = automatic.  This module decides how 
   run on (its CPU affinity), capped alike.
 * **Load.** A busy core still slows a parallel region to its slowest thread.  With n > 1
   threads a :class:`ThreadGovernor` (run between cycles) times a few cycles on n threads and
-  a few on 1 every ``period`` (100) cycles, and keeps the faster count until the
+  a few on the serial kernels every ``period`` (100) cycles, and keeps the faster until the
   next probe: when other jobs take the cores, the run falls back to one thread instead of
   collapsing, and takes the threads back when they free up.
 * **Size.** With ``threads = 0`` a mesh below :data:`MIN_PARALLEL_CELLS` cells runs the serial

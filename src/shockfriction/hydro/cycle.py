@@ -116,11 +116,10 @@ class Simulation:
         self._all_nodes = np.arange(nn, dtype=np.int64)
         self._bc_nodes = np.unique(problem.constraints.node).astype(np.int64)
         self._finished = False
-        # the serial force pass's block scratch; the parallel one's corner forces (a parallel run also keeps
-        # the serial scratch: its governor runs the serial kernels when one thread is faster)
-        self._corner_serial = np.zeros(K.FORCE_SCRATCH)
-        self._corner_parallel = np.zeros((nc, 8)) if self.parallel else None
-        self._corner = self._corner_parallel if self.parallel else self._corner_serial
+        # the force pass's scratch (in a tuple: no checkpoint keeps it, see _scratch): the serial kernel's block
+        # scratch, and the parallel one's corner forces (a parallel run also keeps the serial scratch: its
+        # governor runs the serial kernels when one thread is faster); `_corner` picks one
+        self._force_scratch = (np.zeros(K.FORCE_SCRATCH), np.zeros((nc, 8)) if self.parallel else None)
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
         # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps;
@@ -161,10 +160,14 @@ class Simulation:
     def use_parallel(self, parallel: bool) -> None:
         """Between cycles: the parallel kernels (a run set up with threads > 1 only) or the serial
         ones.  Both give the same bytes (sums in cell and node order), so only the speed changes."""
-        if parallel and self._corner_parallel is None:
+        if parallel and self._force_scratch[1] is None:
             raise RuntimeError("this simulation was set up for one thread")
         self.parallel = bool(parallel)
-        self._corner = self._corner_parallel if self.parallel else self._corner_serial
+
+    @property
+    def _corner(self) -> np.ndarray:
+        """The force pass's scratch for the kernels in use (serial or parallel)."""
+        return self._force_scratch[self.parallel]
 
     def reinitialize(self) -> None:
         """After editing the initial state by hand at t = 0 (``state.e``, ``vx``, ``vy``, the

@@ -1,5 +1,6 @@
 """The numba kernels of one Wilkins cycle (thesis Fig. 3.7, errata resolved), fused into
-two passes over the cells and two over the nodes (docs/theory/fused-cycle.md).
+two passes over the cells and two over the nodes, one over the nodes in the serial cycle without
+interfaces (docs/theory/fused-cycle.md).
 
 * :func:`cell_forces_serial` / :func:`cell_forces_parallel` (the force pass): nodal forces
   F^n from the cell stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the

@@ -48,11 +48,10 @@ CHILDREN = {
     "SubgridInterface": ("columns",),
 }
 # set-up values that a restart takes from the deck and the command line, not from the checkpoint
-# (and scratch that every cycle rewrites before reading: the force pass's corner forces, whose shape depends
-# on whether the governor had the serial or the parallel kernels at the checkpoint)
-SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner",
-                       "_corner", "_corner_serial", "_corner_parallel"},
+SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner"},
         "ViscoplasticColumns": {"_work"}}  # scratch of the kernel
+# arrays that checkpoints of earlier builds hold and this one no longer keeps (scratch): ignored on load
+DROPPED = {"Simulation": {"_corner"}}  # the force pass's scratch, now Simulation._force_scratch (a tuple)
 # deck fields a restart may change: the end time, the cycle limit and the checkpoint interval
 MAY_CHANGE = {("time", "end"), ("time", "max_cycles"), ("output", "checkpoint_interval")}
 
@@ -127,7 +126,10 @@ def load_object(grp, obj, where: str) -> None:
         raise DeckError(f"checkpoint {where}: holds a {grp.attrs['class']}, the deck builds a {cls}")
     for name, v in json.loads(grp.attrs["scalars"]).items():
         setattr(obj, name, v)
+    dropped = DROPPED.get(cls, set())
     for name, item in grp.items():
+        if name in dropped:
+            continue
         if isinstance(item, h5py.Group):
             if item.attrs["class"] == "dict":
                 d = {key: _load_list(ds) for key, ds in item.items()}
