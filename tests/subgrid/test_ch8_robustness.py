@@ -61,7 +61,7 @@ def test_strain_target_does_not_overflow_when_a_subsurface_node_nears_melting():
     deps = np.zeros(nn)
     hard = np.ones(nn)
     dt, v = 1e-9, 200.0
-    r, tau, _vh, v_loc, rate, scale = _evaluate(900.0, theta_ad, unit, w, unit[0], np.zeros(nn), hard,
+    r, tau, _vh, v_loc, rate, scale = _evaluate(900.0, theta_ad, theta_ad, unit, w, unit[0], np.zeros(nn), hard,
                                                theta_ad.max(), unit.max(), 10e9, v, v, 0.0, 3e9, 0.677, 0.7, p, dt,
                                                deps, -1, math.inf, np.empty((4, nn)))
     deps *= scale  # the kinematic limit's factor, applied to the accepted point by finish_column

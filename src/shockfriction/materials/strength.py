@@ -60,14 +60,15 @@ def _shear_ratio(P, T, g, h, xi, T_melt, vector):
 
 @njit(cache=True, error_model="numpy")
 def scg_shear_ratio(P, T, g, h, xi, T_melt):
-    """G(P, T)/G0 (:func:`_shear_ratio`, libm's exp): scalar code, the sub-grid models."""
+    """G(P, T)/G0 (:func:`_shear_ratio`, libm's exp): scalar code (the sub-grid models' friction law, the
+    initial cell state)."""
     return _shear_ratio(P, T, g, h, xi, T_melt, False)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
 def scg_shear_ratio_simd(P, T, g, h, xi, T_melt):
-    """G(P, T)/G0 (:func:`_shear_ratio`, :func:`exp_inline`): in loops to be vectorised across
-    cells (the hydro update's moduli loop)."""
+    """G(P, T)/G0 (:func:`_shear_ratio`, :func:`exp_inline`): in loops to be vectorised (the hydro
+    update's moduli loop, across cells; the thermoelastoplastic layer's first pass, across nodes)."""
     return _shear_ratio(P, T, g, h, xi, T_melt, True)
 
 

@@ -43,13 +43,15 @@ from shockfriction.friction.subgrid.rootfind import B, BRENT_STATE, C, FB, brent
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, OK, SQRT3,
                                                            corrected_slip, friction_stress)
 from shockfriction.jit_options import NO_REFCOUNT
-from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, scg_shear_ratio
+from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, scg_shear_ratio_simd
 
 
 # The kernels of the root iteration allocate nothing: the per-column solve is compiled without numba's
 # reference counting (``_nrt=False``) and its helpers are inlined into it (``inline='always'``), so that the
 # array views and arguments of each evaluation cost no atomic increment/decrement
-# (docs/theory/subgrid-layout.md, section 6; shockfriction.jit_options).
+# (docs/theory/subgrid-layout.md, section 6; shockfriction.jit_options).  The solve and the helpers that tests
+# call alone use numpy's error model (a division by zero gives inf, no check): the first two passes of
+# plastic_increments are then loops without exits, vectorised across the nodes (section 9).
 
 
 # ln of the largest closed-form (1 + beta eps_target) used: x^(1/n) is capped at exp(300) ~ 1e130, so that
@@ -68,6 +70,11 @@ STALE_SHRINK = 2.0 ** -50
 
 # x^(1/n) by binary powering where 1/n is an integer up to this (n = 0.1 for most of the library's SCG fits)
 ROOT_POWER_MAX = 64
+ROOT_POWER_BITS = 7  # bits of the integers up to ROOT_POWER_MAX
+# plastic-front bound (nodes) from which a column's theta_ad is copied for the vectorised first pass of
+# plastic_increments; below it the pass reads the strided column and forms G/G0 only where needed (measured:
+# the uncoupled benchmark's columns, ~18 nodes deep, ran 20 % slower with the copy and every node's G/G0)
+SIMD_MIN_NODES = 32
 
 
 @njit(cache=True, inline="always")
@@ -77,21 +84,27 @@ def root_exponent(n):
     return int(r) if 1.0 <= r <= ROOT_POWER_MAX and r == math.floor(r) else 0
 
 
-@njit(cache=True, inline="always")
-def root_power(x, inv_n, k):
-    """x^(1/n) (the strain target of eq. 8.42): x^k by binary powering when k > 0 (k - 1 products at most,
-    relative error below 2 k ulp, against pow's one ulp; x^10 is four products), else ``x ** inv_n``."""
-    if k <= 0:
-        return x ** inv_n
+@njit(cache=True, inline="always", error_model="numpy")
+def integer_power(x, k):
+    """x^k for 1 <= k <= ROOT_POWER_MAX by binary powering (r *= x^(2^b) for each set bit b of k, low bits
+    first; k - 1 products at most, relative error below 2 k ulp; x^10 is four products).  A loop of fixed length
+    without exits, so that a loop over nodes calling it vectorises; the squarings past k's top bit are not used
+    (they may overflow)."""
     r = 1.0
     b = x
-    while True:
-        if k & 1:
-            r *= b
-        k >>= 1
-        if k == 0:
-            return r
-        b *= b
+    for bit in range(ROOT_POWER_BITS):
+        r = r * b if (k >> bit) & 1 else r
+        b = b * b
+    return r
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def root_power(x, inv_n, k):
+    """x^(1/n) (the strain target of eq. 8.42): x^k by :func:`integer_power` when k > 0 (against pow's one
+    ulp), else ``x ** inv_n``."""
+    if k <= 0:
+        return x ** inv_n
+    return integer_power(x, k)
 
 
 @njit(cache=True, inline="always")
@@ -107,11 +120,14 @@ def lazy_hardening(p):
     return p[I_BETA] >= 0.0 and LAZY_N_MIN <= n < math.inf
 
 
-@njit(cache=True, inline="always")
-def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out,
+@njit(cache=True, inline="always", error_model="numpy")
+def plastic_increments(tau, F_N, theta_ad, near, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max, p, out,
                        scratch, depth=-1, q_hi=math.inf):
     """Fill ``out`` with d_eps (eq. 8.42) for shear ``tau`` on the trial profile theta_ad + q theta_unit;
     return the trapezoid integral sum_i w_i d_eps_i, or -1 if some node has no strength left (G = 0).
+    ``near`` is read instead of ``theta_ad`` by the vectorised first pass, taken when ``depth`` >= SIMD_MIN_NODES
+    and the visited nodes are those above it: then it must hold theta_ad's first ``depth`` values contiguously
+    (the solve copies them from its strided column; ``theta_ad`` itself will do).
 
     ``hard[i]`` = H_i = (1 + beta eps_prev_i)^n: a node flows iff x = sqrt(3) tau/(Y0 G/G0) > H_i.  Nodes
     that cannot flow are skipped without an exponential, using G/G0 >= (1 + g F_N - h (T - 300)) E_min,
@@ -136,8 +152,11 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
 
     The nodes are visited in three passes (``scratch``, (4, n_nodes), holds G/G0, x, x^(1/n) and the
     linear strength bound between them): the exponentials, then the powers, then the decisions in node
-    order.  Each pass is a short loop whose iterations overlap in the processor (one pass of all three
-    chains did not); the values, the powers formed and the result are those of a single pass.
+    order.  G/G0 comes from :func:`scg_shear_ratio_simd` (an inlined ``exp``): in a layer of SIMD_MIN_NODES or
+    more, at every visited node in a loop without branches or calls, vectorised across the nodes, NaN where the
+    skip test holds; in a shorter one only where the test fails (the same values).  x^(1/n) by
+    :func:`integer_power` at every node with strength, vectorised likewise, kept where pass 3 needs it (with a
+    non-integer 1/n, ``pow`` where needed, a scalar loop).  The third pass decides in node order.
     """
     Y0, beta, n = p[I_Y0], p[I_BETA], p[I_N]
     g, h, xi, T_F = p[I_G], p[I_H], p[I_XI], p[I_TF]
@@ -166,28 +185,48 @@ def plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weight
     inv_n = 1.0 / n
     k_root = root_exponent(n)
     rb, xb, tb, ab = scratch[0], scratch[1], scratch[2], scratch[3]
-    # pass 1: the skip test, and G/G0 (an exponential) where it fails (NaN: skipped; G/G0 is never NaN)
-    for i in range(m):
-        th = theta_ad[i] + q * theta_unit[i]
-        a = (lin0 - h * th) * e_min
-        ab[i] = a
-        hv = hard[i]
-        if a * (-hv if (lazy and hv < 0.0) else hv) >= s:
-            rb[i] = math.nan  # G/G0 * hardening already carries tau: elastic
-        else:
-            rb[i] = scg_shear_ratio(F_N, th, g, h, xi, T_F)
-    # pass 2: x and the power x^(1/n) where pass 3 needs it (-1: not formed)
-    for i in range(m):
-        r = rb[i]
-        t = -1.0
-        x = math.inf
-        if r > 0.0:
-            x = s / r
+    # pass 1: the skip test, and G/G0 (NaN where skipped: G/G0 * hardening already carries tau, elastic; G/G0 is
+    # never NaN).  A long layer: at every node, vectorised, from the contiguous copy; a short one (or every node
+    # visited beyond the copy): only where the test fails, from the column.  The same values either way.
+    if depth >= SIMD_MIN_NODES and m <= depth:
+        for i in range(m):
+            th = near[i] + q * theta_unit[i]
+            a = (lin0 - h * th) * e_min
+            ab[i] = a
             hv = hard[i]
-            if ((lazy and hv < 0.0) or not x <= hv) and x < x_big:
-                t = root_power(x, inv_n, k_root)
-        xb[i] = x
-        tb[i] = t
+            r = scg_shear_ratio_simd(F_N, th, g, h, xi, T_F)
+            rb[i] = math.nan if a * (-hv if (lazy and hv < 0.0) else hv) >= s else r
+    else:
+        for i in range(m):
+            th = theta_ad[i] + q * theta_unit[i]
+            a = (lin0 - h * th) * e_min
+            ab[i] = a
+            hv = hard[i]
+            if a * (-hv if (lazy and hv < 0.0) else hv) >= s:
+                rb[i] = math.nan
+            else:
+                rb[i] = scg_shear_ratio_simd(F_N, th, g, h, xi, T_F)
+    # pass 2: x (inf without strength) and the power x^(1/n) where pass 3 needs it (-1: not formed)
+    if k_root > 0:
+        for i in range(m):
+            r = rb[i]
+            hv = hard[i]
+            x = s / r if r > 0.0 else math.inf
+            t = integer_power(x, k_root)
+            xb[i] = x
+            tb[i] = t if (r > 0.0 and ((lazy and hv < 0.0) or not x <= hv) and x < x_big) else -1.0
+    else:
+        for i in range(m):
+            r = rb[i]
+            t = -1.0
+            x = math.inf
+            if r > 0.0:
+                x = s / r
+                hv = hard[i]
+                if ((lazy and hv < 0.0) or not x <= hv) and x < x_big:
+                    t = x ** inv_n
+            xb[i] = x
+            tb[i] = t
     # pass 3: the decisions, in node order
     integral = 0.0
     for i in range(m):
@@ -411,8 +450,8 @@ def finish_column(j, eps, deps, scale, hard, hard_blk, beta, n, lazy, m, tau, he
     lag[j] = top / rho_c
 
 
-@njit(cache=True, inline="always")
-def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, unit_max, F_N, v_free, v_prev,
+@njit(cache=True, inline="always", error_model="numpy")
+def _evaluate(theta, theta_ad, near, theta_unit, weights, a0, eps_prev, hard, ad_max, unit_max, F_N, v_free, v_prev,
               k, tau_cap, beta_T, f, p, dt, deps, depth, q_hi, scratch):
     """Residual and state at trial interface temperature ``theta``: (R, tau, v_half, v_local, plastic_rate, scale).
 
@@ -422,7 +461,7 @@ def _evaluate(theta, theta_ad, theta_unit, weights, a0, eps_prev, hard, ad_max, 
     vh = corrected_slip(v_free, tau, k)
     v_mac = abs(0.5 * (vh + v_prev))
     q = (theta - theta_ad[0]) / a0
-    integral = plastic_increments(tau, F_N, theta_ad, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max,
+    integral = plastic_increments(tau, F_N, theta_ad, near, theta_unit, q, eps_prev, hard, weights, ad_max, unit_max,
                                   p, deps, scratch, depth, q_hi)
     scale = 1.0
     if integral >= 0.0:
@@ -465,16 +504,18 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
                    status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
-                   use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)))
+                   use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)), np.empty(nn))
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
 def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
                    status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
-                   use_front, st, unit_sfx, scratch):
+                   use_front, st, unit_sfx, scratch, near):
     """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes,
-    ``scratch`` (4, n_nodes) for :func:`plastic_increments`)."""
+    ``scratch`` (4, n_nodes) for :func:`plastic_increments`, ``near`` (n_nodes): the column's theta_ad above its
+    plastic-front bound, copied once from the strided layout for all of the column's evaluations when the bound
+    is SIMD_MIN_NODES or deeper)."""
     T_F = p[I_TF]
     beta, n_hard = p[I_BETA], p[I_N]
     lazy = lazy_hardening(p)
@@ -529,6 +570,9 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
             q_hi = q_max * (1.0 + 1e-12)
             m = plastic_depth(tau_max, F_N[j], q_hi, row, blk, unit_sfx, hrow, hard_blk[j], p, depth[j]) \
                 if use_front else nn
+        if m >= SIMD_MIN_NODES:  # what plastic_increments' vectorised first pass reads
+            for i in range(m):
+                near[i] = row[i]
         drow = deps[j]
         old = depth[j] if 0 <= depth[j] <= nn else nn
         for i in range(m, old):
@@ -537,7 +581,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
         hi = t_ad + a0 * q_max
         lo = t_ad
         # the last evaluation (point, results; its d_eps are in drow): reused when it is the accepted point
-        r_lo, t, vh, vl, rate, scale = _evaluate(lo, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
+        r_lo, t, vh, vl, rate, scale = _evaluate(lo, row, near, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
                                                  unit_max, F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f,
                                                  p, dt, drow, m, q_hi, scratch)
         x = lo
@@ -551,7 +595,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
                 if done:
                     converged = True
                     break
-                r, t, vh, vl, rate, scale = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
+                r, t, vh, vl, rate, scale = _evaluate(x, row, near, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
                                                       unit_max, F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T,
                                                       f, p, dt, drow, m, q_hi, scratch)
                 x_last = x
@@ -561,7 +605,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
                 status[j] = NO_CONVERGENCE
             x = st[B] if st[FB] >= 0.0 else st[C]
         if x != x_last:  # _evaluate is deterministic: the same point gives the same state
-            r, t, vh, vl, rate, scale = _evaluate(x, row, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
+            r, t, vh, vl, rate, scale = _evaluate(x, row, near, theta_unit, weights, a0, eps_prev[j], hrow, ad_max,
                                                   unit_max, F_N[j], v_free[j], v_prev[j], k[j], tau_cap[j], beta_T, f,
                                                   p, dt, drow, m, q_hi, scratch)
         if not math.isfinite(rate):  # accepted point on the melting edge of a sub-surface node
