@@ -43,6 +43,7 @@ import math
 import time as _time
 from typing import Callable, Protocol
 
+import numba
 import numpy as np
 
 from shockfriction import threading_policy
@@ -117,9 +118,10 @@ class Simulation:
         self._bc_nodes = np.unique(problem.constraints.node).astype(np.int64)
         self._finished = False
         # the force pass's scratch (in a tuple: no checkpoint keeps it, see _scratch): the serial kernel's block
-        # scratch, and the parallel one's corner forces (a parallel run also keeps the serial scratch: its
-        # governor runs the serial kernels when one thread is faster); `_corner` picks one
-        self._force_scratch = (np.zeros(K.FORCE_SCRATCH), np.zeros((nc, 8)) if self.parallel else None)
+        # scratch, and the parallel one's corner forces with a block scratch per thread (a parallel run also keeps
+        # the serial scratch: its governor runs the serial kernels when one thread is faster); `_corner` picks one
+        self._force_scratch = (np.zeros(K.FORCE_SCRATCH), (np.zeros((nc, 8)), np.zeros(
+            (numba.config.NUMBA_NUM_THREADS, K.FORCE_SCRATCH))) if self.parallel else None)
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
         # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps;
@@ -165,8 +167,9 @@ class Simulation:
         self.parallel = bool(parallel)
 
     @property
-    def _corner(self) -> np.ndarray:
-        """The force pass's scratch for the kernels in use (serial or parallel)."""
+    def _corner(self) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+        """The force pass's scratch for the kernels in use: serial, the block scratch; parallel, (corner forces,
+        a block scratch per thread)."""
         return self._force_scratch[self.parallel]
 
     def reinitialize(self) -> None:
@@ -227,7 +230,7 @@ class Simulation:
         if self.parallel:
             if want_ie:
                 ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
-            K.gather_forces(self._corner, self._node_ptr, self._node_corner, s.fx, s.fy)
+            K.gather_forces(self._corner[0], self._node_ptr, self._node_corner, s.fx, s.fy)
         return ie
 
     # ------------------------------------------------------------------ one cycle

@@ -7,7 +7,8 @@ interfaces (docs/theory/fused-cycle.md).
   velocity-dependent forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge
   viscosity, optional shear viscosity), :func:`cell_corner_forces` per cell; serial: per block
   of cells, a loop vectorized across the cells, then summed into the nodes in cell order;
-  parallel: summed by :func:`gather_forces` (race-free); the velocity-dependent part is kept per
+  parallel: the same blocks, in parallel, summed by :func:`gather_forces` (race-free); the velocity-dependent
+  part is kept per
   corner for the viscous heat, the kinetic energy those forces remove over the step, put
   into the cells by :func:`viscous_cell_heat` (in the cell update, or in
   :func:`viscous_heat_serial` / ``_parallel`` on the cycles that write a history row).
@@ -41,7 +42,7 @@ import math
 import types
 
 import numpy as np
-from numba import njit, prange
+from numba import get_thread_id, njit, prange
 
 from shockfriction.hydro.eos import eos_ab, eos_ab_r, sound_speed2, sound_speed2_ab, temperature
 from shockfriction.hydro.geometry import (
@@ -245,9 +246,9 @@ def cell_corner_forces(xs, ys, us, ws, s_xx, s_yy, a_xy, pc, qc, rc, cc, gc, yc,
     return f0, f1, f2, f3, g0, g1, g2, g3, vf0, vf1, vf2, vf3, vg0, vg1, vg2, vg3
 
 
-# the serial force pass works on blocks of FORCE_BLOCK cells; its scratch (``corner`` argument) holds
-# FORCE_SCRATCH = 32 rows of FORCE_BLOCK values: the corners' x, y, vx, vy (rows 0-15), then their
-# forces f, g and viscous forces vf, vg (rows 16-31)
+# the force pass works on blocks of FORCE_BLOCK cells; a block's scratch (the serial kernel's ``corner``
+# argument, a row per thread of the parallel one's) holds FORCE_SCRATCH = 32 rows of FORCE_BLOCK values: the
+# corners' x, y, vx, vy (rows 0-15), then their forces f, g and viscous forces vf, vg (rows 16-31)
 FORCE_BLOCK = 64
 FORCE_SCRATCH = 32 * FORCE_BLOCK
 
@@ -275,6 +276,40 @@ def _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, h
             cl, svisc, scl, scq, elastic_only)
 
 
+@njit(cache=True, inline="always")
+def _gather_block(conn, x, y, vx, vy, c0, nb, nodal):
+    """The node values of cells c0 .. c0 + nb - 1's corners into ``nodal`` (row r = 4 (x, y, vx, vy) + corner,
+    FORCE_BLOCK apart), for :func:`_force_block`."""
+    B = FORCE_BLOCK
+    for j in range(nb):
+        c = np.uint64(c0 + j)
+        for k in range(4):
+            n = np.uint64(conn[c, k])
+            nodal[j + k * B] = x[n]
+            nodal[j + (4 + k) * B] = y[n]
+            nodal[j + (8 + k) * B] = vx[n]
+            nodal[j + (12 + k) * B] = vy[n]
+
+
+@njit(cache=True, inline="always")
+def _forces_of_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
+                     scq, elastic_only, out):
+    """:func:`_force_block` with the flags as constants (each case compiled apart, module docstring): a runtime
+    flag keeps branches in the loop that LLVM does not vectorize."""
+    if axi and qedge:
+        _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, True, hg, True, cq, cl, svisc, scl,
+                     scq, elastic_only, out)
+    elif axi:
+        _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, True, hg, False, cq, cl, svisc, scl,
+                     scq, elastic_only, out)
+    elif qedge:
+        _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, True, cq, cl, svisc, scl,
+                     scq, elastic_only, out)
+    else:
+        _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, False, cq, cl, svisc, scl,
+                     scq, elastic_only, out)
+
+
 @njit(cache=True, **NO_REFCOUNT)
 def cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
                        scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, want_ie):
@@ -294,27 +329,8 @@ def cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, 
     nc = conn.shape[0]
     for c0 in range(0, nc, B):
         nb = min(B, nc - c0)
-        for j in range(nb):
-            c = np.uint64(c0 + j)
-            for k in range(4):
-                n = np.uint64(conn[c, k])
-                nodal[j + k * B] = x[n]
-                nodal[j + (4 + k) * B] = y[n]
-                nodal[j + (8 + k) * B] = vx[n]
-                nodal[j + (12 + k) * B] = vy[n]
-        # the flags as constants (each case compiled apart, module docstring): a runtime flag keeps
-        # branches in the loop that LLVM does not vectorize
-        if axi and qedge:
-            _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, True, hg, True, cq, cl, svisc, scl,
-                         scq, elastic_only, out)
-        elif axi:
-            _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, True, hg, False, cq, cl, svisc, scl,
-                         scq, elastic_only, out)
-        elif qedge:
-            _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, True, cq, cl, svisc, scl,
-                         scq, elastic_only, out)
-        else:
-            _force_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, False, hg, False, cq, cl, svisc, scl,
+        _gather_block(conn, x, y, vx, vy, c0, nb, nodal)
+        _forces_of_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                          scq, elastic_only, out)
         for j in range(nb):
             c = np.uint64(c0 + j)
@@ -331,21 +347,29 @@ def cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, 
 
 @njit(cache=True, parallel=True)
 def cell_forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
-                         scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, want_ie):
-    """:func:`cell_forces_serial` in parallel over the cells: the forces of cell c go to ``corner[c, 0:8]``
-    (fx0..fx3, fy0..fy3) for :func:`gather_forces` (race-free); fx, fy, e, e_el, cmass and ``want_ie``
-    unused (0 returned)."""
-    for c in prange(conn.shape[0]):
-        n0 = np.uint64(conn[c, 0])
-        n1 = np.uint64(conn[c, 1])
-        n2 = np.uint64(conn[c, 2])
-        n3 = np.uint64(conn[c, 3])
-        (corner[c, 0], corner[c, 1], corner[c, 2], corner[c, 3], corner[c, 4], corner[c, 5], corner[c, 6],
-         corner[c, 7], vcorner[c, 0], vcorner[c, 1], vcorner[c, 2], vcorner[c, 3], vcorner[c, 4], vcorner[c, 5],
-         vcorner[c, 6], vcorner[c, 7]) = cell_corner_forces(
-            (x[n0], x[n1], x[n2], x[n3]), (y[n0], y[n1], y[n2], y[n3]), (vx[n0], vx[n1], vx[n2], vx[n3]),
-            (vy[n0], vy[n1], vy[n2], vy[n3]), sxx[c], syy[c], sxy[c], p[c], q[c], rho[c], cs[c], shear[c], yld[c],
-            axi, hg, qedge, cq, cl, svisc, scl, scq, elastic_only)
+                         scl, scq, elastic_only, scratch, vcorner, fx, fy, e, e_el, cmass, want_ie):
+    """:func:`cell_forces_serial` in parallel over its blocks of FORCE_BLOCK cells (the same gather and vectorized
+    block): ``scratch`` = (corner, blocks); the forces of cell c go to ``corner[c, 0:8]`` (fx0..fx3, fy0..fy3)
+    for :func:`gather_forces` (race-free), each thread works in its row of ``blocks``
+    (NUMBA_NUM_THREADS, FORCE_SCRATCH).  fx, fy, e, e_el, cmass and ``want_ie`` unused (0 returned)."""
+    corner, blocks = scratch
+    B = FORCE_BLOCK
+    nc = conn.shape[0]
+    for b in prange((nc + B - 1) // B):
+        work = blocks[get_thread_id()]
+        nodal = work[:16 * B]
+        out = work[16 * B:32 * B]
+        c0 = b * B
+        nb = min(B, nc - c0)
+        _gather_block(conn, x, y, vx, vy, c0, nb, nodal)
+        _forces_of_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
+                         scq, elastic_only, out)
+        for j in range(nb):
+            c = c0 + j
+            for k in range(8):
+                corner[c, k] = out[j + k * B]
+            for k in range(8):
+                vcorner[c, k] = out[j + (8 + k) * B]
     return 0.0
 
 
