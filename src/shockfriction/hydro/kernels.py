@@ -30,7 +30,8 @@ interfaces (docs/theory/fused-cycle.md).
 
 The serial and parallel variants are the same Python function compiled twice
 (``prange`` is ``range`` without ``parallel=True``), except the force pass, whose two kernels
-share the per-cell :func:`cell_corner_forces`; per-cell helpers take and return
+share its blocks (:func:`_gather_block`, :func:`_forces_of_block`, the vectorized :func:`_force_block` over the
+per-cell :func:`cell_corner_forces`) and differ in how the forces reach the nodes; per-cell helpers take and return
 scalars only (no array arguments: no reference counting in the inner loops) and are inlined
 (``inline="always"``); the serial kernels are compiled without reference counting.
 Every kernel takes plain arrays and floats; sign convention: compression positive.
