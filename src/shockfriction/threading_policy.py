@@ -116,9 +116,11 @@ class ThreadGovernor:
         import numba
 
         if threads != self.current:
-            if threads > 1:
+            if sim is None:  # no simulation to switch: the parallel kernels on this many threads
                 numba.set_num_threads(threads)
-            if sim is not None:  # one thread: the serial kernels (faster than the parallel ones on one)
+            else:  # one thread: the serial kernels (faster than the parallel ones on one)
+                if threads > 1:
+                    numba.set_num_threads(threads)
                 sim.use_parallel(threads > 1)
             self.current = threads
 

@@ -65,13 +65,17 @@ def test_governor_keeps_the_faster_count(monkeypatch, cost, winner):
     gov = tp.ThreadGovernor(2, period=20, probe=3)
     clock = _Clock(gov, cost)
     monkeypatch.setattr(tp.time, "perf_counter", clock)
-    monkeypatch.setattr(numba, "set_num_threads", lambda n: None)
+    counts = []
+    monkeypatch.setattr(numba, "set_num_threads", counts.append)
     used = []
     for _ in range(60):
         clock.cycle()
         gov()
         used.append(gov.current)
     assert gov.chosen[winner] == 3 and gov.chosen[3 - winner] == 0
+    # without a simulation to switch, each change of count goes to numba, one thread included
+    changes = [u for prev, u in zip([2] + used, used) if u != prev]
+    assert counts == changes and 1 in counts
     # probes alternate 2, 1, 2, 1, 2, 1; then the winner for the rest of each period
     assert used[:7] == [2, 1, 2, 1, 2, 1, winner] and set(used[6:20]) == {winner}
 
