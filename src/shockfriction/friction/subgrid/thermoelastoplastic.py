@@ -224,7 +224,7 @@ def plastic_increments(tau, F_N, theta_ad, near, theta_unit, q, eps_prev, hard, 
                 x = s / r
                 hv = hard[i]
                 if ((lazy and hv < 0.0) or not x <= hv) and x < x_big:
-                    t = x ** inv_n
+                    t = root_power(x, inv_n, k_root)
             xb[i] = x
             tb[i] = t
     # pass 3: the decisions, in node order
