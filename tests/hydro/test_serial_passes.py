@@ -1,23 +1,24 @@
 """The one-thread cycle's fused passes do exactly what the separate kernels do (docs/theory/fused-cycle.md,
-"Node pass and update blocks"): the node pass (velocities, constraints, kinetic energy, positions) and the
-cell update over blocks of ``UPDATE_BLOCK`` cells, byte for byte, failures included."""
+"Node pass and update blocks", "Wavefront"): the node pass (velocities, constraints, kinetic energy, positions),
+the cell update over blocks of ``UPDATE_BLOCK`` cells and the wavefront over the mesh, byte for byte, failures
+included."""
 
 import numpy as np
 import pytest
 
 from shockfriction.hydro import kernels as K
 from shockfriction.hydro.api import prepare
-from shockfriction.hydro.cycle import _node_corner_csr
+from shockfriction.hydro.cycle import _node_corner_csr, _wavefront
 
 N = 60  # 3600 cells: two blocks of the update, the second one partial
 assert K.UPDATE_BLOCK < N * N < 2 * K.UPDATE_BLOCK
 
 
-def block_deck(probes: bool) -> dict:
+def block_deck(probes: bool, n: int = N) -> dict:
     deck = {"title": "blocks", "time": {"end": "1 ms"},
             "bodies": [{"name": "b", "material": "Al6061-T6", "strength": "scg", "velocity": ["0 m/s", "-500 m/s"],
                         "mesh": {"corners": [["0 mm", "0 mm"], ["6 mm", "0 mm"], ["6 mm", "6 mm"], ["0 mm", "6 mm"]],
-                                 "nx": N, "ny": N},
+                                 "nx": n, "ny": n},
                         # the corner node (0, 0) carries two constraints, applied in list order
                         "boundary": {"bottom": "symmetry", "left": "symmetry"}}]}
     if probes:
@@ -39,6 +40,88 @@ def test_node_pass_matches_the_separate_kernels():
     ea, eb = np.array(fused.energy_rows), np.array(staged.energy_rows)
     assert np.array_equal(ea, eb)
     assert a.eps_p.max() > 0 and a.energy.boundary_work != 0.0
+
+
+def use_wave(sim, wave: int) -> int:
+    """Run ``sim``'s fused cycle as a wavefront of ``wave`` cells (the mesh here is below WAVE_MIN_CELLS, whose
+    cycle is one step of all cells); returns the rows of its ring of viscous corner forces."""
+    s = sim.state
+    node_wait, cell_wait, zero_wait, rows = _wavefront(s.conn, s.n_nodes, sim._grp[0].shape[0] > 1, wave)
+    sim._waits = (node_wait, cell_wait, zero_wait, wave)
+    sim._vring = (sim._vcorner if rows == s.n_cells else np.zeros((rows, 8)),)
+    return rows
+
+
+def local_shuffle(n: int, window: int, rng) -> np.ndarray:
+    """A numbering shuffled within windows of ``window`` (an unstructured mesh's: local, not monotone)."""
+    perm = np.arange(n)
+    for a in range(0, n, window):
+        rng.shuffle(perm[a:a + window])
+    return perm
+
+
+def renumber(sim, rng) -> None:
+    """Renumber ``sim``'s cells and nodes (shuffled within windows), state and cycle arrays alike."""
+    s = sim.state
+    nc, nn = s.n_cells, s.n_nodes
+    assert nc != nn
+    pc, pn = local_shuffle(nc, 97, rng), local_shuffle(nn, 89, rng)  # new cell i is old cell pc[i]
+    new_node = np.empty(nn, dtype=np.int64)
+    new_node[pn] = np.arange(nn)
+    for obj in (s, sim):
+        for name, a in list(vars(obj).items()):
+            if not isinstance(a, np.ndarray) or a.ndim == 0 or name.startswith("_bc") or name == "_all_nodes":
+                continue
+            if name == "conn":
+                setattr(obj, name, new_node[a[pc]].astype(a.dtype))
+            elif a.shape[0] == nc:
+                setattr(obj, name, a[pc].copy())
+            elif a.shape[0] == nn:
+                setattr(obj, name, a[pn].copy())
+    node = new_node[sim._cons[0]]
+    sim._cons = (node, *sim._cons[1:])
+    sim._bc_nodes = np.unique(node).astype(np.int64)
+    order = np.argsort(node, kind="stable").astype(np.int64)
+    sim._bc_ptr = np.searchsorted(node[order], np.append(sim._bc_nodes, nn)).astype(np.int64)
+    sim._bc_cons = order
+
+
+@pytest.mark.parametrize("wave", [64, 256])
+@pytest.mark.parametrize("shuffled", [False, True])
+def test_wavefront_matches_the_three_passes(wave, shuffled):
+    """The fused cycle as a wavefront (forces of ``wave`` cells, then the nodes and update blocks they complete,
+    the viscous corner forces in a ring smaller than the mesh) against the same cycle in one step of all cells
+    (the three passes one after the other, pinned to the separate kernels above): the state and every energy row
+    byte for byte over 40 cycles, on the block's numbering and on one shuffled within windows (cells and nodes
+    out of order, as in an unstructured mesh)."""
+    sims = [prepare(block_deck(False, 100), threads=1) for _ in range(2)]  # 10 000 cells: 5 update blocks
+    if shuffled:
+        for sim in sims:
+            renumber(sim, np.random.default_rng(3))
+    rows = use_wave(sims[0], wave)
+    assert use_wave(sims[1], sims[1].state.n_cells) == sims[1].state.n_cells
+    assert rows < sims[0].state.n_cells and rows % K.UPDATE_BLOCK == 0  # the ring wraps
+    for _ in range(40):
+        for sim in sims:
+            sim.step()
+    a, b = sims[0].state, sims[1].state
+    for name in ("x", "y", "vx", "vy", "e", "e_el", "pressure", "q", "sxx", "sxy", "eps_p", "temperature", "fx",
+                 "sound_speed", "yield_stress"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert a.dt == b.dt
+    assert np.array_equal(np.array(sims[0].energy_rows), np.array(sims[1].energy_rows))
+    assert a.eps_p.max() > 0 and a.energy.boundary_work != 0.0
+
+
+def test_wavefront_waits_on_a_hand_mesh():
+    """node_wait, cell_wait, zero_wait and the ring's rows of a 2 x 1 strip numbered out of order."""
+    conn = np.array([[1, 0, 4, 5], [0, 2, 3, 4]])  # cell 0 on nodes 0, 1, 4, 5; cell 1 on nodes 0, 2, 3, 4
+    node_wait, cell_wait, zero_wait, rows = _wavefront(conn, 6, False, 1)
+    assert node_wait.tolist() == [1, 1, 1, 1, 1, 1]  # node 0 waits for cell 1, so do the nodes after it
+    assert cell_wait.tolist() == [5, 5]
+    assert zero_wait.tolist() == [0, 0, 0, 0, 0, 0]
+    assert rows == 2
+    assert _wavefront(conn, 7, False, 1)[2].tolist() == [0, 0, 0, 0, 0, 0, 2]  # node 6 in no cell: at the end
 
 
 def update_args(sim) -> list:

@@ -31,7 +31,8 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
 
 On one thread, without interfaces and when the row (if any) has no probes or observers, steps 1-6
 are one call (:func:`~shockfriction.hydro.kernels.cycle_serial`: the same operations in the same order, steps
-3 and 5 in one pass over the nodes).
+3 and 5 in one pass over the nodes; on a mesh of ``WAVE_MIN_CELLS`` cells or more, a wavefront: the forces of a
+few hundred cells, the nodes they complete, the update blocks whose nodes have moved, and again).
 
 Histories are taken at t^n with node velocities (v^{n-1/2} + v^{n+1/2})/2 and the
 leapfrog kinetic energy sum m v^{n-1/2}.v^{n+1/2}/2 (docs/theory/hydrocode.md, sec. 5).
@@ -61,6 +62,34 @@ class Interface(Protocol):
 
 ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
                   "friction_work", "contact_work", "error")
+
+
+def _wavefront(conn: np.ndarray, n_nodes: int, grouped: bool,
+               wave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """For the one-thread cycle's wavefront (:func:`~shockfriction.hydro.kernels.cycle_serial`): node_wait[n],
+    the last cell touching any of nodes 0 .. n (-1 for none); cell_wait[c], the last node of any of cells 0 .. c;
+    zero_wait[n], the first cell touching any of nodes n, n + 1 ... (the number of cells for none); and the rows of the ring that holds the viscous corner forces from the force pass to the update: the most
+    cells between an update block's first cell and the force pass's front when that block is updated, in
+    whole update blocks (all the cells when that is as many, or with node groups: their nodes wait for every
+    force)."""
+    nc = conn.shape[0]
+    last_cell = np.full(n_nodes, -1, dtype=np.int64)
+    np.maximum.at(last_cell, conn.reshape(-1), np.repeat(np.arange(nc, dtype=np.int64), conn.shape[1]))
+    node_wait = np.maximum.accumulate(last_cell) if n_nodes else last_cell
+    first_cell = np.full(n_nodes, nc, dtype=np.int64)
+    np.minimum.at(first_cell, conn.reshape(-1), np.repeat(np.arange(nc, dtype=np.int64), conn.shape[1]))
+    zero_wait = np.minimum.accumulate(first_cell[::-1])[::-1].copy()
+    cell_wait = np.maximum.accumulate(conn.max(axis=1)).astype(np.int64) if nc else np.zeros(0, dtype=np.int64)
+    ub = K.UPDATE_BLOCK
+    rows = nc
+    if nc and not grouped:
+        first = np.arange(0, nc, ub)
+        last_node = cell_wait[np.minimum(first + ub, nc) - 1]
+        front = np.minimum(nc, (node_wait[last_node] // wave + 1) * wave)  # forces done when the block goes
+        rows = int(-(-int(np.max(front - first)) // ub) * ub)
+        if rows >= nc:
+            rows = nc
+    return node_wait, cell_wait, zero_wait, rows
 
 
 def _node_corner_csr(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
@@ -141,6 +170,13 @@ class Simulation:
         self._bc_cons = order
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
         self._grp = (problem.groups.ptr, problem.groups.nodes)
+        # the one-thread cycle's wavefront (steps of `wave` cells; one step of all cells on a smaller mesh):
+        # (node_wait, cell_wait, zero_wait, wave) and its ring of viscous corner forces (in tuples: scratch that
+        # no checkpoint keeps)
+        wave = K.WAVE_CELLS if nc >= K.WAVE_MIN_CELLS else max(nc, 1)
+        node_wait, cell_wait, zero_wait, rows = _wavefront(s.conn, nn, problem.groups.ptr.shape[0] > 1, wave)
+        self._waits = (node_wait, cell_wait, zero_wait, wave)
+        self._vring = (self._vcorner if rows == nc else np.zeros((rows, 8)),)
         s.dt = self._first_time_step()
         self._dt_prev = 0.0  # leapfrog start: v^{-1/2} = v^0 and a half velocity step
         s.energy.initial = K.kinetic_energy(s.vx, s.vy, s.mass_own) + K.internal_energy(s.e, s.e_el, s.cell_mass)
@@ -350,11 +386,11 @@ class Simulation:
         ie, wbc, ke, dtn, bad, code, qv = K.cycle_serial(
             s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
             s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl, self.shear_visc,
-            *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass, record,
+            *self.shear_visc_args, self._corner, self._vring[0], s.fx, s.fy, s.e, s.e_el, s.cell_mass, record,
             *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre, self._vy_pre, s.mass_own,
             *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons, self._jx_bc_prev, self._jy_bc_prev, dt,
             self._x_half, self._y_half, s.mat, s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell,
-            self._errcell, self.cfl, self.dvmax, s.damage, *self._scratch)
+            self._errcell, self.cfl, self.dvmax, s.damage, *self._scratch, *self._waits)
         en = s.energy
         if self._cons[0].shape[0]:
             en.boundary_work += wbc

@@ -23,7 +23,9 @@ interfaces (docs/theory/fused-cycle.md).
   artificial viscosity q^{n+1/2}, energy update with the EOS, spall, temperature, moduli,
   sound speed and the cell's stable time step, reduced to the step of the cycle.
 * :func:`velocities_serial` (steps 1-3 without interfaces), :func:`advance_serial` (positions and
-  cells), :func:`cycle_serial` (both): the serial kernels above in fewer calls.  In plane strain
+  cells), :func:`cycle_serial` (both): the serial kernels above in fewer calls; :func:`cycle_serial`
+  runs them over ranges (:func:`forces_of_cells`, :func:`advance_nodes`, :func:`update_blocks`), as a
+  wavefront over a large mesh (the three passes a few rows apart, their values still in cache).  In plane strain
   with the bulk q (``axi`` and ``qedge`` false) they pass both flags as the constant False: numba
   types a constant argument as a literal and compiles that case apart, so LLVM drops the dead
   axisymmetric and edge-viscosity code (and the copies its branches cost), the same arithmetic.
@@ -316,29 +318,44 @@ def cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, 
                        scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, want_ie):
     """One pass over the cells for the nodal forces F^n (the cycle's step 1), serial:
     :func:`cell_corner_forces` per cell, the velocity-dependent part into ``vcorner[c, 0:8]`` (fx0..fx3,
-    fy0..fy3) for the viscous heat, the forces summed into fx, fy in cell order.  Per block of
-    FORCE_BLOCK cells: the corners' node values gathered into ``corner`` (the scratch, FORCE_SCRATCH
-    values), the forces by :func:`_force_block` (vectorized across cells), then the scatter.
-    Returns the internal energy sum_c m_c (e_c + e_el,c) at t^n when ``want_ie`` (else 0)."""
-    B = FORCE_BLOCK
-    nodal = corner[:16 * B]
-    out = corner[16 * B:32 * B]
+    fy0..fy3) for the viscous heat, the forces summed into fx, fy in cell order (:func:`forces_of_cells`
+    over all cells, fx and fy zeroed first).  Returns the internal energy sum_c m_c (e_c + e_el,c) at t^n
+    when ``want_ie`` (else 0)."""
     for n in range(fx.shape[0]):
         fx[n] = 0.0
         fy[n] = 0.0
-    ie = 0.0
-    nc = conn.shape[0]
-    for c0 in range(0, nc, B):
-        nb = min(B, nc - c0)
+    return forces_of_cells(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
+                           svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, want_ie, 0,
+                           conn.shape[0], 0.0)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def forces_of_cells(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                    scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, want_ie, start, stop, ie):
+    """The serial force pass over cells start .. stop - 1, added into fx, fy: per block of
+    FORCE_BLOCK cells, the corners' node values gathered into ``corner`` (the scratch,
+    FORCE_SCRATCH values), the forces by :func:`_force_block` (vectorized across cells), then the
+    velocity-dependent part into ``vcorner`` and the forces into the nodes in cell order.
+    ``vcorner`` has a row per cell, or is a ring of R rows (cell c in row c mod R; R a multiple of
+    FORCE_BLOCK, ``start`` one too: a block never wraps).  Returns ``ie`` + sum_c m_c (e_c + e_el,c)
+    over the cells in cell order when ``want_ie`` (else ``ie``)."""
+    B = FORCE_BLOCK
+    nodal = corner[:16 * B]
+    out = corner[16 * B:32 * B]
+    ring = vcorner.shape[0]
+    for c0 in range(start, stop, B):
+        nb = min(B, stop - c0)
         _gather_block(conn, x, y, vx, vy, c0, nb, nodal)
         _forces_of_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                          scq, elastic_only, out)
+        r0 = c0 % ring
         for j in range(nb):
             c = np.uint64(c0 + j)
             if want_ie:
                 ie += cmass[c] * (e[c] + e_el[c])
+            r = np.uint64(r0 + j)
             for k in range(8):
-                vcorner[c, k] = out[j + (8 + k) * B]
+                vcorner[r, k] = out[j + (8 + k) * B]
             for k in range(4):
                 fx[np.uint64(conn[c, k])] += out[j + k * B]
             for k in range(4):
@@ -958,20 +975,18 @@ update_cells_parallel = njit(cache=True, parallel=True, error_model="numpy")(_tw
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def advance_and_move(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
-                     bc_ptr, bc_cons, record, x, y, dt, x_half, y_half):
-    """Steps 3 and 5 of a cycle without interfaces in one pass over the nodes, node by node:
-    :func:`advance_velocities`, on a constrained node v* into (vx_pre, vy_pre) and its constraints
-    (:func:`apply_constraints`, in list order), with ``record`` the node's term of
-    :func:`kinetic_energy_product`, then :func:`move_nodes`.  The same operations in the same order
-    per node as those kernels, the sum in node order.  ``bc_nodes`` (ascending) are the
-    constrained nodes, ``bc_cons[bc_ptr[k]:bc_ptr[k + 1]]`` the constraints of ``bc_nodes[k]`` in
-    list order.  Returns the leapfrog kinetic energy at t^n if ``record`` (else 0)."""
-    s = 0.0
-    kb = 0
+def advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
+                  bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, start, stop, kb, s):
+    """Steps 3 and 5 on nodes start .. stop - 1, node by node: :func:`advance_velocities`, on a
+    constrained node v* into (vx_pre, vy_pre) and its constraints (:func:`apply_constraints`, in
+    list order), with ``record`` the node's term of :func:`kinetic_energy_product` (times 2) added
+    to ``s`` in node order, then :func:`move_nodes`.  The same operations in the same order per node
+    as those kernels.  ``bc_nodes`` (ascending) are the constrained nodes,
+    ``bc_cons[bc_ptr[k]:bc_ptr[k + 1]]`` the constraints of ``bc_nodes[k]`` in list order, ``kb``
+    the first of them at or after ``start``.  Returns (s, kb at ``stop``)."""
     nb = bc_nodes.shape[0]
-    nxt = bc_nodes[0] if nb else -1
-    for n in range(vx.shape[0]):
+    nxt = bc_nodes[kb] if kb < nb else -1
+    for n in range(start, stop):
         u = vx[n]
         w = vy[n]
         vx_old[n] = u
@@ -1002,43 +1017,58 @@ def advance_and_move(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, 
         y[n] = r1
         x_half[n] = 0.5 * (p + p1)
         y_half[n] = 0.5 * (r + r1)
-    return 0.5 * s
+    return s, kb
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
                   heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
-    """:func:`update_cells_serial` over blocks of ``UPDATE_BLOCK`` cells, so that the values its
-    four loops hand on (``work``, (11, >= min(cells, UPDATE_BLOCK))) and the cell arrays they
-    share stay in cache; in plane strain with the bulk q with both flags as the constant False
-    (module docstring).  Every cell sees the same operations and the viscous heat is summed in
-    cell order, as in one call.  After a bad cell the other blocks are still updated; the first
-    failing block's first bad cell is returned."""
+    """:func:`update_cells_serial` over blocks of ``UPDATE_BLOCK`` cells (:func:`update_blocks` over all of
+    them), so that the values its four loops hand on (``work``, (11, >= min(cells, UPDATE_BLOCK))) and the
+    cell arrays they share stay in cache.  Returns (min stable dt, first bad cell or -1, its code, viscous
+    heat)."""
+    nb = (conn.shape[0] + UPDATE_BLOCK - 1) // UPDATE_BLOCK
+    dtmin, bad, code, qv = update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e,
+                                         e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl,
+                                         dvmax, dtcell, errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv,
+                                         work, mrec, 0, nb, 1e300, -1, ERR_NONE, 0.0)
+    if bad >= 0:
+        return 0.0, bad, code, qv
+    return dtmin, -1, ERR_NONE, qv
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+                  sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, start, stop, dtmin, bad, code, qv):
+    """:func:`update_cells_serial` over the blocks start .. stop - 1 of ``UPDATE_BLOCK`` cells (block k: cells
+    k UPDATE_BLOCK .. (k + 1) UPDATE_BLOCK - 1), in plane strain with the bulk q with both flags as the constant
+    False (module docstring).  Every cell sees the same operations and the viscous heat is summed in cell
+    order, as in one call.  After a bad cell the other blocks are still updated.  ``vcorner``: a row per cell,
+    or a ring (:func:`forces_of_cells`) of a multiple of UPDATE_BLOCK rows.  Carries (dtmin over the good
+    blocks, first failing block's first bad cell or -1, its code, viscous heat) on from the blocks before."""
     nc = conn.shape[0]
     bs = max(1, min(nc, UPDATE_BLOCK))
+    ring = vcorner.shape[0]
     wb = work.reshape(-1)[:11 * bs].reshape(11, bs)
-    dtmin = 1e300
-    qv = 0.0
-    bad = -1
-    code = ERR_NONE
-    for b0 in range(0, nc, bs):
+    for k in range(start, stop):
+        b0 = k * UPDATE_BLOCK
         b1 = min(b0 + bs, nc)
+        r0 = b0 % ring
         dtb, badb, codeb, qv = _update_block(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table,
                                              cmass[b0:b1], vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1],
                                              q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1],
                                              temp[b0:b1], shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl,
                                              dvmax, dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
-                                             vcorner[b0:b1], vx_old, vy_old, dtv, wb, mrec, qv)
+                                             vcorner[r0:r0 + b1 - b0], vx_old, vy_old, dtv, wb, mrec, qv)
         if badb >= 0:
             if bad < 0:
                 bad = b0 + badb
                 code = codeb
         else:
             dtmin = min(dtmin, dtb)
-    if bad >= 0:
-        return 0.0, bad, code, qv
-    return dtmin, -1, ERR_NONE, qv
+    return dtmin, bad, code, qv
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -1099,34 +1129,104 @@ def advance_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass,
                          dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
 
 
+# cells per step of the serial cycle's wavefront (cycle_serial): forces of this many cells, then the nodes and
+# the update blocks they complete; on meshes of WAVE_MIN_CELLS cells or more (smaller ones, whose arrays stay in
+# the last-level cache, run one step of all the cells: the three passes one after the other, measured faster
+# there; docs/theory/fused-cycle.md, "Wavefront")
+WAVE_CELLS = 4 * FORCE_BLOCK
+WAVE_MIN_CELLS = 1 << 17
+
+
 @njit(cache=True, **NO_REFCOUNT)
 def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                  scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
                  vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes, bc_ptr, bc_cons, jx_prev, jy_prev,
                  dt, x_half, y_half, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work,
-                 mrec):
+                 mrec, node_wait, cell_wait, zero_wait, wave):
     """One whole serial cycle without interfaces, the viscous heat in the cell update (no history row
-    with probes or observers this cycle), in three passes: :func:`cell_forces_serial` (and
-    :func:`sum_groups`), :func:`advance_and_move` (velocities, constraints, kinetic energy,
-    positions: one pass over the nodes), the constraints' :func:`impulse_work`, then
-    :func:`update_serial`.  The same operations in the same order as :func:`velocities_serial`
-    then :func:`advance_serial`.  Returns (internal energy at t^n (``record``), boundary work,
-    leapfrog kinetic energy at t^n (``record``), min stable dt, first bad cell or -1, its code,
-    viscous heat)."""
-    ie = cell_forces_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
-                            svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record)
-    if grp_ptr.shape[0] > 1:
-        sum_groups(fx, fy, grp_ptr, grp_nodes)
-    ke = advance_and_move(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval,
-                          bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half)
+    with probes or observers this cycle), as a wavefront over the mesh: the forces of the next
+    ``wave`` cells (:func:`forces_of_cells`), then the nodes whose cells all have their forces
+    (:func:`advance_nodes`: velocities, constraints, kinetic energy, positions), then the blocks of
+    the cell update whose nodes all have moved (:func:`update_blocks`), and again; the constraints'
+    :func:`impulse_work` at the end.  ``node_wait[n]`` is the last cell of nodes 0 .. n,
+    ``cell_wait[c]`` the last node of cells 0 .. c, ``zero_wait[n]`` the first cell of nodes n ..
+    (hydro/cycle.py, ``_wavefront``): a node's force is zeroed just before the first wave that adds to
+    it (or before it moves, a node of no cell), nodes go in node order,
+    update blocks in cell order, so every node and cell sees the same operations in the same order,
+    and every sum the same terms in the same order, as :func:`velocities_serial` then
+    :func:`advance_serial`; what changes is that the corner forces, nodes and cells of a few rows are
+    still in cache when the next pass needs them.  With node groups (:func:`sum_groups` needs all the
+    forces) the nodes wait for the whole force pass.  Returns (internal energy at t^n (``record``),
+    boundary work, leapfrog kinetic energy at t^n (``record``), min stable dt, first bad cell or -1, its
+    code, viscous heat)."""
+    nc = conn.shape[0]
+    nn = vx.shape[0]
+    nblocks = (nc + UPDATE_BLOCK - 1) // UPDATE_BLOCK
+    grouped = grp_ptr.shape[0] > 1
+    ie = 0.0
+    s = 0.0
+    kb = 0
+    dtmin = 1e300
+    bad = -1
+    code = ERR_NONE
+    qv = 0.0
+    done_cells = 0  # cells with their forces
+    done_nodes = 0  # nodes moved
+    done_blocks = 0  # update blocks
+    zeroed = 0  # nodes with their force zeroed
+    while done_blocks < nblocks:
+        stop = done_nodes
+        if done_cells < nc:
+            c1 = min(done_cells + wave, nc)
+            z1 = zeroed
+            if c1 == nc:
+                z1 = nn
+            else:
+                while z1 < nn and zero_wait[z1] < c1:
+                    z1 += 1
+            for n in range(zeroed, z1):
+                fx[n] = 0.0
+                fy[n] = 0.0
+            zeroed = max(zeroed, z1)
+            ie = forces_of_cells(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq,
+                                 cl, svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record,
+                                 done_cells, c1, ie)
+            done_cells = c1
+            if done_cells == nc:
+                if grouped:
+                    sum_groups(fx, fy, grp_ptr, grp_nodes)
+                stop = nn
+            elif not grouped:
+                while stop < nn and node_wait[stop] < done_cells:
+                    stop += 1
+        else:
+            stop = nn
+        for n in range(zeroed, stop):
+            fx[n] = 0.0
+            fy[n] = 0.0
+        zeroed = max(zeroed, stop)
+        if stop > done_nodes:
+            s, kb = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny,
+                                  cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, done_nodes, stop,
+                                  kb, s)
+            done_nodes = stop
+        k1 = done_blocks
+        while k1 < nblocks and cell_wait[min((k1 + 1) * UPDATE_BLOCK, nc) - 1] < done_nodes:
+            k1 += 1
+        if k1 > done_blocks:
+            dtmin, bad, code, qv = update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol,
+                                                 rho, e, e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi,
+                                                 dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg, True, vcorner,
+                                                 vx_old, vy_old, dtv, work, mrec, done_blocks, k1, dtmin, bad, code,
+                                                 qv)
+            done_blocks = k1
     wbc = 0.0
     if bc_cons.shape[0]:
         wbc = impulse_work(bc_nodes, mass_own, vx_old, vy_old, vx, vy, vx_pre, vy_pre, jx_prev, jy_prev, False,
                            vx_pre, vy_pre)
-    dtn, bad, code, qv = update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el,
-                                       p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax,
-                                       dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old, dtv, work, mrec)
-    return ie, wbc, ke, dtn, bad, code, qv
+    if bad >= 0:
+        dtmin = 0.0
+    return ie, wbc, 0.5 * s, dtmin, bad, code, qv
 
 
 @njit(cache=True, **NO_REFCOUNT)
