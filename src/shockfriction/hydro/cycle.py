@@ -66,18 +66,21 @@ ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "inter
 
 def _wavefront(conn: np.ndarray, n_nodes: int, grouped: bool,
                wave: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """For the one-thread cycle's wavefront (:func:`~shockfriction.hydro.kernels.cycle_serial`): node_wait[n],
-    the last cell touching any of nodes 0 .. n (-1 for none); cell_wait[c], the last node of any of cells 0 .. c;
-    zero_wait[n], the first cell touching any of nodes n, n + 1 ... (the number of cells for none); and the rows of the ring that holds the viscous corner forces from the force pass to the update: the most
-    cells between an update block's first cell and the force pass's front when that block is updated, in
-    whole update blocks (all the cells when that is as many, or with node groups: their nodes wait for every
-    force)."""
+    """For the one-thread cycle's wavefront (:func:`~shockfriction.hydro.kernels.cycle_serial`, steps of
+    ``wave`` cells): node_wait[n], the last cell touching any of nodes 0 .. n (-1 for none); cell_wait[c], the
+    last node of any of cells 0 .. c; zero_wait[n], the first cell touching any of nodes n, n + 1 ... (the number
+    of cells for none); and the rows of the ring that holds the viscous corner forces from the force pass to the
+    update: the most cells between an update block's first cell and the force front when that block is updated,
+    in whole update blocks (one row per cell when that is as many, or with node groups, whose nodes wait for
+    every force)."""
     nc = conn.shape[0]
+    nodes = conn.reshape(-1)
+    cells = np.repeat(np.arange(nc, dtype=np.int64), conn.shape[1])
     last_cell = np.full(n_nodes, -1, dtype=np.int64)
-    np.maximum.at(last_cell, conn.reshape(-1), np.repeat(np.arange(nc, dtype=np.int64), conn.shape[1]))
+    np.maximum.at(last_cell, nodes, cells)
     node_wait = np.maximum.accumulate(last_cell) if n_nodes else last_cell
     first_cell = np.full(n_nodes, nc, dtype=np.int64)
-    np.minimum.at(first_cell, conn.reshape(-1), np.repeat(np.arange(nc, dtype=np.int64), conn.shape[1]))
+    np.minimum.at(first_cell, nodes, cells)
     zero_wait = np.minimum.accumulate(first_cell[::-1])[::-1].copy()
     cell_wait = np.maximum.accumulate(conn.max(axis=1)).astype(np.int64) if nc else np.zeros(0, dtype=np.int64)
     ub = K.UPDATE_BLOCK
