@@ -78,11 +78,11 @@ def _wavefront(conn: np.ndarray, n_nodes: int, grouped: bool,
     cells = np.repeat(np.arange(nc, dtype=np.int64), conn.shape[1])
     last_cell = np.full(n_nodes, -1, dtype=np.int64)
     np.maximum.at(last_cell, nodes, cells)
-    node_wait = np.maximum.accumulate(last_cell) if n_nodes else last_cell
+    node_wait = np.maximum.accumulate(last_cell)
     first_cell = np.full(n_nodes, nc, dtype=np.int64)
     np.minimum.at(first_cell, nodes, cells)
     zero_wait = np.minimum.accumulate(first_cell[::-1])[::-1].copy()
-    cell_wait = np.maximum.accumulate(conn.max(axis=1)).astype(np.int64) if nc else np.zeros(0, dtype=np.int64)
+    cell_wait = np.maximum.accumulate(conn.max(axis=1)).astype(np.int64)
     ub = K.UPDATE_BLOCK
     rows = nc
     if nc and not grouped:

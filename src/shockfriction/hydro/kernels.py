@@ -1034,8 +1034,8 @@ def update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
                                          dvmax, dtcell, errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv,
                                          work, mrec, 0, nb, 1e300, -1, ERR_NONE, 0.0)
     if bad >= 0:
-        return 0.0, bad, code, qv
-    return dtmin, -1, ERR_NONE, qv
+        dtmin = 0.0
+    return dtmin, bad, code, qv
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -1175,41 +1175,36 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
     done_blocks = 0  # update blocks
     zeroed = 0  # nodes with their force zeroed
     while done_blocks < nblocks:
-        stop = done_nodes
         if done_cells < nc:
             c1 = min(done_cells + wave, nc)
-            z1 = zeroed
-            if c1 == nc:
-                z1 = nn
-            else:
-                while z1 < nn and zero_wait[z1] < c1:
-                    z1 += 1
-            for n in range(zeroed, z1):
+            # the nodes that may move once cells up to c1 have their forces (stop), and the forces to zero first:
+            # every node a cell up to c1 adds to, and those that move now (a node of no cell among them)
+            stop = nn
+            zero = nn
+            if c1 < nc:
+                stop = done_nodes
+                if not grouped:
+                    while stop < nn and node_wait[stop] < c1:
+                        stop += 1
+                zero = zeroed
+                while zero < nn and zero_wait[zero] < c1:
+                    zero += 1
+                zero = max(zero, stop)
+            for n in range(zeroed, zero):
                 fx[n] = 0.0
                 fy[n] = 0.0
-            zeroed = max(zeroed, z1)
+            zeroed = zero
             ie = forces_of_cells(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq,
                                  cl, svisc, scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record,
                                  done_cells, c1, ie)
             done_cells = c1
-            if done_cells == nc:
-                if grouped:
-                    sum_groups(fx, fy, grp_ptr, grp_nodes)
-                stop = nn
-            elif not grouped:
-                while stop < nn and node_wait[stop] < done_cells:
-                    stop += 1
-        else:
-            stop = nn
-        for n in range(zeroed, stop):
-            fx[n] = 0.0
-            fy[n] = 0.0
-        zeroed = max(zeroed, stop)
-        if stop > done_nodes:
-            s, kb = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny,
-                                  cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, done_nodes, stop,
-                                  kb, s)
-            done_nodes = stop
+            if done_cells == nc and grouped:
+                sum_groups(fx, fy, grp_ptr, grp_nodes)
+            if stop > done_nodes:
+                s, kb = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny,
+                                      cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, done_nodes,
+                                      stop, kb, s)
+                done_nodes = stop
         k1 = done_blocks
         while k1 < nblocks and cell_wait[min((k1 + 1) * UPDATE_BLOCK, nc) - 1] < done_nodes:
             k1 += 1
