@@ -35,6 +35,7 @@ DIMENSIONS: dict[str, tuple[str, str, str]] = {
     "inverse_temperature": ("1 / [temperature]", "1/K", "6.16e-4 1/K"),
     "slowness": ("[time] / [length]", "s/m", "0.05 s/m"),
     "viscosity": ("[pressure] * [time]", "Pa*s", "1.3 mPa*s"),
+    "molar_volume": ("[length] ** 3 / [substance]", "m^3/mol", "2.1e-6 m^3/mol"),
     "dimensionless": ("", "", "0.3"),
 }
 

@@ -17,8 +17,9 @@ ST = get_material("AISI321")
 
 def test_vanishing_rate_sensitivity_reproduces_chapter8_ball_curves():
     ref = SubgridInterface(1, AL, ST, model="thermoelastoplastic", mu0=0.3, f=0.3)
+    # the chapter 8 model's constant melting temperature (pressure_melting=False): the same physics
     vp = ViscoplasticColumns(1, AL, beta_T=heat_share(AL, ST), f=0.3, inertia=False, eta_vp=1e-3,
-                             latent_heat=3.97e5, liquid_viscosity=0.844e-3)
+                             latent_heat=3.97e5, liquid_viscosity=0.844e-3, pressure_melting=False)
     worst_T = worst_tau = 0.0
     for n in range(1, 2501):
         t_ref, _ = ref.step(10e9, 200.0, 200.0, np.inf, np.inf, 1.0, 1e-9)

@@ -15,7 +15,13 @@ with::
                  taylor_quinney = 0.9,      # beta_Q (thermoelastoplastic)
                  profile_nodes = [0, 100],  # slave nodes whose T(z), eps_p(z) go to columns.h5
                  profile_interval = "100 ns",  # default: 5 nodes, every 10th record
-                 picard_tol = "1e-6 K" }    # subgrid-viscoplastic only: its Picard tolerance (default 1e-6 K)
+                 picard_tol = "1e-6 K",     # subgrid-viscoplastic only: its Picard tolerance (default 1e-6 K)
+                 pressure_melting = true,   # subgrid-viscoplastic only: T_m(sigma_n) by the SCG melt law
+                 closure = "shear" }        # subgrid-viscoplastic only: far end driven by the hydro's shear
+                                            # ("shear", default) or held at the node ("held", version 0.3)
+
+With ``law = "subgrid-viscoplastic"`` and no ``heat_share`` the columns share the heat with the other body by
+conduction (a thermal column in it, two-sided heat); ``heat_share`` keeps the fixed share of the thesis.
 
 These keys are the :class:`SubgridFrictionOptions` mix-in of the slide line's ``FrictionDeck``;
 they are refused for the other laws.
@@ -32,7 +38,8 @@ from shockfriction.units import Dimensionless, PicardTolerance, PositiveLength, 
 SUBGRID_LAWS = {"subgrid-thermoelastic": "thermoelastic", "subgrid-thermoelastoplastic": "thermoelastoplastic",
                 "subgrid-viscoplastic": "viscoplastic"}
 _OPTIONS = ("f", "thickness", "cells", "grading", "body", "heat_share", "taylor_quinney", "profile_nodes",
-            "profile_interval", "picard_tol")
+            "profile_interval", "picard_tol", "pressure_melting", "closure")
+_VISCOPLASTIC_ONLY = ("picard_tol", "pressure_melting", "closure")
 
 
 class SubgridFrictionOptions(BaseModel):
@@ -49,6 +56,13 @@ class SubgridFrictionOptions(BaseModel):
     profile_interval: Optional[PositiveTime] = None
     picard_tol: Optional[PicardTolerance] = Field(
         None, description="subgrid-viscoplastic only: Picard tolerance in kelvin, e.g. '1e-3 K' (omitted: 1e-6 K)")
+    pressure_melting: bool = Field(
+        True, description="subgrid-viscoplastic only: melting temperature T_m(sigma_n) by the SCG melt law "
+                          "and the melt viscosity's pressure factor (false: the ambient T_F and eta_L)")
+    closure: Literal["shear", "held"] = Field(
+        "shear", description="subgrid-viscoplastic only: the column's far end moves with the hydro's shear of "
+                             "the layer ('shear': the column adds only what departs from its cell's homogeneous "
+                             "shear) or is held at the node ('held': version 0.3, depends on the thickness)")
 
     @model_validator(mode="after")
     def _subgrid_keys(self):
@@ -57,8 +71,9 @@ class SubgridFrictionOptions(BaseModel):
             missing = [k for k in ("mu0", "f") if getattr(self, k, None) is None]
             if missing:
                 raise ValueError(f"friction law {law!r} needs {', '.join(missing)}")
-            if law != "subgrid-viscoplastic" and "picard_tol" in self.model_fields_set:
-                raise ValueError(f"picard_tol only with the subgrid-viscoplastic law (law is {law!r})")
+            given = [k for k in _VISCOPLASTIC_ONLY if k in self.model_fields_set]
+            if law != "subgrid-viscoplastic" and given:
+                raise ValueError(f"{', '.join(given)} only with the subgrid-viscoplastic law (law is {law!r})")
         else:
             given = [k for k in _OPTIONS if k in self.model_fields_set]
             if given:

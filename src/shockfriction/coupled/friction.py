@@ -40,20 +40,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from shockfriction.coupled.kernels import (capped_tangential_step, column_inputs, stash_sums, step_increments,
-                                          tally_branches)
+from shockfriction.coupled.kernels import (capped_tangential_step, column_inputs, layer_shear_velocity, stash_sums,
+                                          step_increments, tally_branches)
 from shockfriction.errors import DeckError, SimulationError
 from shockfriction.friction.subgrid.interface import SubgridInterface
 
 IDLE_SLIP = 1e-6  # m/s: a free slip below this is contact round-off, the node's column stays idle
 ENERGY_KEYS = ("friction_work_columns", "heat_columns", "heat_other", "cold_work", "plastic_heat_pending",
-               "melt_energy")
+               "melt_energy", "columns_mechanical", "layer_work")
 # which term of tau = min(mu0 F_N, tau_stick, sub-grid branch) governs a friction node-step (in contact, free slip)
 BRANCHES = ("coulomb_cap", "sticking_cap", "subgrid")
-# the viscoplastic column under a hydro node: its far end moves with the node (the hydro carries the body and
-# its shear waves), so it is held at zero relative velocity; an impedance there would add the body's elastic
-# compliance tau/(rho c_s) a second time (docs/theory/viscoplastic.md)
+# the viscoplastic column under a hydro node: its far end is held (the hydro carries the body and its shear waves;
+# an impedance there would add the body's elastic compliance tau/(rho c_s) a second time), at the velocity the
+# hydro's own shear of the layer gives it at depth h ("shear" closure) or at the node's ("held", version 0.3)
+# (docs/theory/viscoplastic.md, "Coupled closure")
 COUPLED_VISCOPLASTIC = {"far_end": "held"}
+CLOSURES = ("shear", "held")
 
 
 class SubgridFriction:
@@ -68,14 +70,21 @@ class SubgridFriction:
     def __init__(self, name: str, n_nodes: int, model: str, material, other, *, mu0: float, f: float,
                  thickness: float = 20e-6, cells: int = 500, grading: float = 1.0, taylor_quinney: float = 0.9,
                  T0: float = 300.0, bilateral: bool = False, profile_nodes=None, profile_interval: float = 0.0,
-                 modelled_body: str = "slave", trace: bool = False, picard_tol: float | None = None):
+                 modelled_body: str = "slave", trace: bool = False, picard_tol: float | None = None,
+                 pressure_melting: bool = True, closure: str = "shear", state=None):
         self.name = name
         self.model = model
         self.modelled_body = modelled_body
+        if closure not in CLOSURES:
+            raise ValueError(f"closure must be one of {CLOSURES}, got {closure!r}")
+        self.closure = closure
+        self._state = state  # the hydro state (positions, connectivity) that the "shear" closure reads
         self.columns = SubgridInterface(n_nodes, material, other, thickness=thickness, n_cells=cells,
                                         grading=grading, model=model, mu0=mu0, f=f, taylor_quinney=taylor_quinney,
-                                        T0=T0, viscoplastic={**COUPLED_VISCOPLASTIC, "picard_tol": picard_tol}
+                                        T0=T0, viscoplastic={**COUPLED_VISCOPLASTIC, "picard_tol": picard_tol,
+                                                             "pressure_melting": pressure_melting}
                                         if model == "viscoplastic" else None)
+        self._vp_before = np.zeros((6, n_nodes))  # viscoplastic column energies before a step (see _vp_books)
         self.bilateral = bool(bilateral)
         n = n_nodes
         for key in ("sigma_n", "v_free", "v_prev", "m_slave", "m_guide", "cap"):
@@ -117,6 +126,18 @@ class SubgridFriction:
                       IDLE_SLIP, self.sigma_n, self.v_free,
                       self.v_prev, self.m_slave, self.m_guide)
         stash_sums(sg.friction_work, sg.heat_interface, sg.heat_plastic, sg.plastic_work, sg.melt_energy, self._before)
+        vp = self.model == "viscoplastic"
+        if vp:
+            self._vp_sums(self._vp_before)
+            if self.closure == "shear" and self._state is not None:
+                st = self._state
+                if self.modelled_body == "slave":
+                    ca, cb = line.slave_cell_before, line.slave_cell_after
+                else:  # the guide cell of each node's paired segment
+                    ca = line.guide_cells[np.clip(line.seg, 0, line.guide_cells.size - 1)]
+                    cb = np.full(ca.size, -1, np.int64)
+                layer_shear_velocity(st.x, st.y, vx_old, vy_old, st.conn, ca, cb, line.tx, line.ty, line.nx, line.ny,
+                                     line.active, float(sg.vp.z[-1]), sg.v_far)
         try:
             tau, _ = sg.step(self.sigma_n, self.v_free, self.v_prev, self.m_slave, self.m_guide, line.area, dt,
                              cycle=self.steps + 1, time=t)
@@ -130,12 +151,15 @@ class SubgridFriction:
         sweeps = capped_tangential_step(vx, vy, mass, line.slave_imp, line.gnode, line.gw, line.tx, line.ty,
                                         line.active, self.cap, line.max_sweeps, line.rel_tol, line.lam_t, line.slip)
         line.slip_free[:] = self.v_free
-        self.friction_work_columns += float(S @ parts[0])
-        self.heat_columns += float(S @ parts[1])
-        self.heat_other += float(S @ parts[2])
-        self.cold_work += float(S @ parts[3])
-        self.plastic_heat_pending = float(S @ sg.plastic_heat_pending)
-        self.melt_energy += float(S @ parts[4])
+        if vp:
+            self._vp_books(S)
+        else:
+            self.friction_work_columns += float(S @ parts[0])
+            self.heat_columns += float(S @ parts[1])
+            self.heat_other += float(S @ parts[2])
+            self.cold_work += float(S @ parts[3])
+            self.plastic_heat_pending = float(S @ sg.plastic_heat_pending)
+            self.melt_energy += float(S @ parts[4])
         self._tally(tau)
         self._win_time += dt
         self.steps += 1
@@ -146,6 +170,31 @@ class SubgridFriction:
                                "theta_interface": sg.theta_interface.copy(), "area": S.copy(),
                                "lam_t": line.lam_t.copy(), "slip": line.slip.copy(), "active": line.active.copy()})
         return sweeps
+
+    def _vp_sums(self, out: np.ndarray) -> None:
+        """The viscoplastic columns' running energies per unit area (rows: friction work, enthalpy (sensible + latent)
+        + heat out, the other body's heat, cold work, kinetic + elastic, work through z = h)."""
+        E = self.columns.vp.energies()
+        out[0] = E["friction_work"]
+        out[1] = E["heat_stored"] + E["heat_out"]
+        out[2] = E["heat_other_body"]
+        out[3] = E["cold_work"]
+        out[4] = E["kinetic"] + E["elastic"]
+        out[5] = E["radiated"]
+
+    def _vp_books(self, S: np.ndarray) -> None:
+        """Book a viscoplastic step: friction work = heat in the columns + the other body's heat + cold work + the
+        columns' kinetic and elastic energy - the work the hydro's shear does on the layers through z = h
+        (``layer_work``: energy the hydro's cells hold already, so it is not counted twice)."""
+        after = np.empty_like(self._vp_before)
+        self._vp_sums(after)
+        d = after - self._vp_before
+        self.friction_work_columns += float(S @ d[0])
+        self.heat_columns += float(S @ d[1])
+        self.heat_other += float(S @ d[2])
+        self.cold_work += float(S @ d[3])
+        self.columns_mechanical += float(S @ d[4])
+        self.layer_work -= float(S @ d[5])
 
     def _tally(self, tau: np.ndarray) -> None:
         """Count which branch gave tau at each friction node-step (in contact with free slip): the Coulomb cap
@@ -203,10 +252,11 @@ class SubgridFriction:
         return {key: float(getattr(self, key)) for key in ENERGY_KEYS}
 
 
-def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = False) -> SubgridFriction:
+def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = False, state=None) -> SubgridFriction:
     """The :class:`SubgridFriction` of a validated slide-line deck entry ``sl`` on ``line``.
 
-    ``bodies`` maps body names to their deck entries (material, initial temperature).
+    ``bodies`` maps body names to their deck entries (material, initial temperature); ``state`` the hydro state
+    (the viscoplastic columns' "shear" closure reads its positions and cells).
     """
     from shockfriction.materials.library import get_material
 
@@ -247,4 +297,5 @@ def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = Fal
                            thickness=fr.thickness, cells=fr.cells, grading=fr.grading,
                            taylor_quinney=fr.taylor_quinney, T0=T0, bilateral=sl.contact == "bilateral",
                            profile_nodes=nodes, profile_interval=interval, modelled_body=fr.body, trace=trace,
-                           picard_tol=fr.picard_tol)
+                           picard_tol=fr.picard_tol, pressure_melting=fr.pressure_melting, closure=fr.closure,
+                           state=state)

@@ -147,3 +147,38 @@ def step_increments(friction_work, heat_interface, heat_plastic, plastic_work, m
         win_local[j] += slip_local[j] * dt
         win_plastic[j] += slip_plastic[j] * dt
         win_macro[j] += slip_macro[j] * dt
+
+
+@njit(cache=True)
+def layer_shear_velocity(x, y, vx, vy, conn, cell_a, cell_b, tx, ty, nx, ny, active, h, v_far):
+    """v_far[j] = -(t . L . n) h: the velocity, relative to node j and in its column's sense (the column's v is
+    -t . (u - u_node)), that the hydro's own velocity field has at depth h below the surface, L = grad u averaged
+    over the cells cell_a[j], cell_b[j] (-1: none) next to the node, n the contact normal (pointing into the
+    slave body), t the tangent.  The gradient of each quadrilateral is the mean gradient of its bilinear field,
+    du/dx = ((u3 - u1)(y4 - y2) - (u4 - u2)(y3 - y1))/(2A), du/dy = ((u4 - u2)(x3 - x1) - (u3 - u1)(x4 - x2))/(2A),
+    2A = (x3 - x1)(y4 - y2) - (x4 - x2)(y3 - y1) (either orientation).  Inactive nodes get 0."""
+    for j in range(v_far.shape[0]):
+        v_far[j] = 0.0
+        if not active[j]:
+            continue
+        acc = 0.0
+        cnt = 0
+        for which in range(2):
+            c = cell_a[j] if which == 0 else cell_b[j]
+            if c < 0:
+                continue
+            i1, i2, i3, i4 = conn[c, 0], conn[c, 1], conn[c, 2], conn[c, 3]
+            ax, ay = x[i3] - x[i1], y[i3] - y[i1]
+            bx, by = x[i4] - x[i2], y[i4] - y[i2]
+            A2 = ax * by - bx * ay
+            if A2 == 0.0:
+                continue
+            dux = ((vx[i3] - vx[i1]) * by - (vx[i4] - vx[i2]) * ay) / A2
+            duy = ((vx[i4] - vx[i2]) * ax - (vx[i3] - vx[i1]) * bx) / A2
+            dvx = ((vy[i3] - vy[i1]) * by - (vy[i4] - vy[i2]) * ay) / A2
+            dvy = ((vy[i4] - vy[i2]) * ax - (vy[i3] - vy[i1]) * bx) / A2
+            # t . L . n with L_ik = du_i/dx_k
+            acc += tx[j] * (dux * nx[j] + duy * ny[j]) + ty[j] * (dvx * nx[j] + dvy * ny[j])
+            cnt += 1
+        if cnt > 0:
+            v_far[j] = -(acc / cnt) * h

@@ -82,10 +82,26 @@ class ViscoplasticDeck(DeckModel):
     depth_ratio: float = Field(default=1.05, gt=1.0, le=1.5, description="ratio of successive continuation cells")
     picard_tol: Optional[PicardTolerance] = Field(
         default=None, description="Picard tolerance in kelvin, e.g. '1e-3 K' (omitted: 1e-6 K)")
+    heat: Optional[Literal["two-sided", "share"]] = Field(
+        default=None, description="'two-sided': a thermal column in the other body (default with other_material); "
+                                  "'share': the fixed heat share beta_T (default with heat_share)")
+    pressure_melting: bool = Field(
+        default=True, description="melting temperature T_m(sigma_n) by the SCG melt law and the melt viscosity's "
+                                  "pressure factor (false: the ambient melting point and viscosity)")
+
+    @model_validator(mode="after")
+    def _quasi_static_needs_no_bound(self):
+        if not self.inertia and self.depth == "none":
+            raise ValueError("inertia = true, or a continued column (depth), not inertia = false with depth = 'none': "
+                             "a quasi-static column bounded at h has one "
+                             "uniform stress, and once its surface layer softens the step has no unique solution "
+                             "(it alternates from step to step); keep inertia, or continue the column (depth)")
+        return self
 
     def options(self) -> dict:
         return {"eta_vp": self.eta_vp, "inertia": self.inertia, "tresca": self.tresca, "depth": self.depth,
-                "depth_ratio": self.depth_ratio, "picard_tol": self.picard_tol}
+                "depth_ratio": self.depth_ratio, "picard_tol": self.picard_tol, "heat": self.heat,
+                "pressure_melting": self.pressure_melting}
 
 
 class LoadingDeck(DeckModel):
@@ -212,6 +228,8 @@ class SubgridDeck(DeckModel):
     def _viscoplastic_options(self):
         if self.viscoplastic is not None and self.model != "viscoplastic":
             raise ValueError("a [viscoplastic] table only with model = 'viscoplastic'")
+        if self.viscoplastic is not None and self.viscoplastic.heat == "two-sided" and self.other_material is None:
+            raise ValueError("viscoplastic.heat = 'two-sided' needs other_material (the other body's thermal column)")
         if self.model == "viscoplastic":
             from shockfriction.materials.library import get_material
             m = get_material(self.material)

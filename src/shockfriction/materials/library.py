@@ -18,12 +18,14 @@ scg_h               inverse_temperature SCG thermal softening of G (thesis h_The
 scg_xi              dimensionless   melt softening exp(-xi T/(T_F - T)) (Ball & Winter)
 eos_c0, eos_s       velocity, -     linear Us = c0 + s up Hugoniot
 eos_gamma0          dimensionless   Grueneisen coefficient (Gamma rho = const)
+scg_melt_a          dimensionless   a of the SCG melt law T_m(eta) (optional; default eos_gamma0, i.e. Gamma rho = const)
 spall_strength      pressure        spall strength p_spall of the cut-off model
 tb_sigma0, tb_lambda pressure, -    Tuler-Butcher threshold and exponent
 tb_K                pressure^lambda x time  Tuler-Butcher damage constant (e.g. "1 GPa^2*us")
 latent_heat         specific_energy latent heat of fusion L (optional; viscoplastic sub-grid model)
 liquid_viscosity    viscosity       melt viscosity at Theta_F (optional; Arrhenius law, viscoplastic model)
 liquid_viscosity_activation temperature  E/R of eta_L = eta_F exp(E/R (1/T - 1/Theta_F)) (optional)
+liquid_viscosity_activation_volume molar_volume  V* of the melt viscosity's pressure factor exp(p V*/(R T)) (optional)
 viscoplastic_viscosity viscosity    overstress viscosity eta_vp of the solid (optional; viscoplastic model)
 ==================  ==============  ==============================================
 """
@@ -58,6 +60,7 @@ PARAMETER_KINDS: dict[str, str] = {
     "eos_c0": "velocity",
     "eos_s": "dimensionless",
     "eos_gamma0": "dimensionless",
+    "scg_melt_a": "dimensionless",
     "spall_strength": "pressure",
     "tb_sigma0": "pressure",
     "tb_lambda": "dimensionless",
@@ -65,6 +68,7 @@ PARAMETER_KINDS: dict[str, str] = {
     "latent_heat": "specific_energy",
     "liquid_viscosity": "viscosity",
     "liquid_viscosity_activation": "temperature",
+    "liquid_viscosity_activation_volume": "molar_volume",
     "viscoplastic_viscosity": "viscosity",
 }
 REQUIRED = ("rho0", "conductivity", "melting_temperature", "G0", "Y0", "Ymax",
@@ -133,6 +137,24 @@ class Material:
     def scg_params(self) -> np.ndarray:
         """SCG parameters as a float64 array in :data:`SCG_ORDER` (for njit kernels)."""
         return np.array([self.parameters[k].value for k in SCG_ORDER], dtype=np.float64)
+
+    def melt_law(self) -> tuple[float, float, float, float, float]:
+        """(T_m0, K0 = rho0 c0^2, s, gamma0, a) of the SCG melt law
+        (:func:`~shockfriction.materials.strength.scg_melt_temperature`); K0 = 0 (a constant T_m) when the
+        material has no Hugoniot (eos_c0, eos_s) or no eos_gamma0.  a defaults to gamma0 (Gamma rho = const,
+        the Mie-Grueneisen form of the hydrocode)."""
+        if not (self.has("eos_c0") and self.has("eos_s") and self.has("eos_gamma0")):
+            return (self.melting_temperature, 0.0, 0.0, 0.0, 0.0)
+        g0 = self.eos_gamma0
+        a = self.scg_melt_a if self.has("scg_melt_a") else g0
+        return (self.melting_temperature, self.rho0 * self.eos_c0 ** 2, self.eos_s, g0, a)
+
+    def melting_temperature_at(self, pressure) -> np.ndarray:
+        """T_m at the pressure (Pa, compression > 0; arrays broadcast): the SCG melt law of :meth:`melt_law`."""
+        from shockfriction.materials.strength import scg_melt_temperature
+        law = self.melt_law()
+        P = np.asarray(pressure, float)
+        return np.vectorize(lambda x: scg_melt_temperature(x, *law), otypes=[float])(P)
 
 
 def heat_share(first: Material, second: Material) -> float:

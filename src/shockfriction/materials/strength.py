@@ -91,6 +91,28 @@ def scg_yield(eps_p, P, T, p):
     return scg_hardening(eps_p, p) * scg_shear_ratio(P, T, p[I_G], p[I_H], p[I_XI], p[I_TF])
 
 
+@njit(cache=True)
+def hugoniot_compression(P, K0, s):
+    """eta = rho/rho0 on the principal Hugoniot of the linear Us = c0 + s up law at the pressure P:
+    P = K0 mu/(1 - s mu)^2, mu = 1 - 1/eta, K0 = rho0 c0^2, solved for mu in the form without cancellation
+    mu = 2 P/(K0 + 2 s P + sqrt(K0^2 + 4 s P K0)); P <= 0 gives eta = 1."""
+    if not P > 0.0:
+        return 1.0
+    mu = 2.0 * P / (K0 + 2.0 * s * P + math.sqrt(K0 * K0 + 4.0 * s * P * K0))
+    return 1.0 / (1.0 - mu)
+
+
+@njit(cache=True)
+def scg_melt_temperature(P, T_m0, K0, s, gamma0, a):
+    """SCG melt law (Steinberg, Cochran & Guinan 1980, eq. 5; a Lindemann law with gamma = gamma0 - a (1 - 1/eta)):
+    T_m = T_m0 exp(2 a (1 - 1/eta)) eta^(2 (gamma0 - a - 1/3)), eta = rho/rho0 at the pressure P on the principal
+    Hugoniot (:func:`hugoniot_compression`); K0 <= 0: the constant T_m0."""
+    if not K0 > 0.0:
+        return T_m0
+    eta = hugoniot_compression(P, K0, s)
+    return T_m0 * math.exp(2.0 * a * (1.0 - 1.0 / eta)) * eta ** (2.0 * (gamma0 - a - 1.0 / 3.0))
+
+
 @vectorize(["float64(float64, float64, float64, float64, float64, float64)"], cache=True)
 def shear_ratio(P, T, g, h, xi, T_melt):
     """Element-wise G/G0 (numpy ufunc over P and T): :func:`scg_shear_ratio`."""

@@ -113,7 +113,9 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
         slip = np.stack([table_value(ld.times, ld.slip_velocity, mids, ld.interpolation) for ld in deck.loading], 1)
         sigma = np.stack([table_value(ld.times, ld.normal_stress, mids, ld.interpolation) for ld in deck.loading], 1)
         fr = deck.friction
-        sg = SubgridInterface(n, mat, share, thickness=deck.column.thickness, n_cells=deck.column.cells,
+        # the other body's material where the deck names it (the viscoplastic model's two-sided heat), else the share
+        other = share if deck.heat_share is not None else get_material(deck.other_material)
+        sg = SubgridInterface(n, mat, other, thickness=deck.column.thickness, n_cells=deck.column.cells,
                               grading=deck.column.grading, model=deck.model, mu0=fr.mu0, f=fr.f,
                               taylor_quinney=fr.taylor_quinney, T0=deck.T0,
                               viscoplastic=_viscoplastic_options(deck, mat, sigma))

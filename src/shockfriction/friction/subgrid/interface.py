@@ -86,7 +86,12 @@ from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
 #: the keys of ``viscoplastic=`` (ViscoplasticColumns keywords; see _init_viscoplastic)
-VISCOPLASTIC_OPTIONS = ("eta_vp", "inertia", "tresca", "depth", "depth_ratio", "far_end", "picard_tol")
+VISCOPLASTIC_OPTIONS = ("eta_vp", "inertia", "tresca", "depth", "depth_ratio", "far_end", "picard_tol", "heat",
+                        "pressure_melting")
+#: how the viscoplastic columns share the frictional heat: "two-sided" (a thermal column in the other body, joined
+#: by continuity of temperature and flux; the default where the other body's material is known) or "share" (the
+#: fixed share beta_T of the thesis, eq. 2.101)
+HEAT_MODES = ("two-sided", "share")
 #: per-node diagnostics of every model, arrays (n_columns,) (see the module docstring)
 NODE_DIAGNOSTICS = ("theta_interface", "slip_macro", "slip_local", "slip_plastic", "flux_in", "tau", "friction_work",
                     "heat_interface", "heat_plastic", "plastic_work", "lag_temperature", "melt_energy", "tau_coulomb",
@@ -118,10 +123,12 @@ class SubgridInterface:
         if model not in MODELS:
             raise ValueError(f"model must be one of {MODELS}, got {model!r}")
         self.material = _material(material)
+        self.other = None  # the other body's material, where known (two-sided heat of the viscoplastic model)
         if isinstance(other, (int, float)) and not isinstance(other, bool):
             self.beta_T = float(other)
         else:
-            self.beta_T = heat_share(self.material, _material(other))
+            self.other = _material(other)
+            self.beta_T = heat_share(self.material, self.other)
         if not 0.0 <= self.beta_T <= 1.0:
             raise ValueError(f"heat share must lie in [0, 1], got {self.beta_T!r}")
         if not (mu0 >= 0.0 and f >= 0.0 and 0.0 <= taylor_quinney <= 1.0):
@@ -169,13 +176,23 @@ class SubgridInterface:
             raise ValueError(f"unknown viscoplastic options {sorted(unknown)}: expected {', '.join(VISCOPLASTIC_OPTIONS)}")
         self.model = "viscoplastic"
         self.mu0, self.f, self.beta_Q = float(mu0), float(f), float(beta_Q)
+        heat = opts.get("heat") or ("two-sided" if self.other is not None else "share")
+        if heat not in HEAT_MODES:
+            raise ValueError(f"viscoplastic heat = {heat!r}: expected one of {', '.join(HEAT_MODES)}")
+        if heat == "two-sided" and self.other is None:
+            raise ValueError("viscoplastic heat = 'two-sided' needs the other body's material (not a heat share)")
+        self.heat_mode = heat
         self.vp = ViscoplasticColumns(n, self.material, beta_T=self.beta_T, thickness=thickness, n_cells=n_cells,
                                       grading=grading, f=self.f if opts.get("tresca", True) else None,
                                       taylor_quinney=beta_Q, eta_vp=opts.get("eta_vp"),
                                       inertia=bool(opts.get("inertia", True)), T0=T0, depth=opts.get("depth"),
                                       depth_ratio=opts.get("depth_ratio", 1.05),
                                       far_end=opts.get("far_end", "impedance"),
-                                      picard_tol=opts.get("picard_tol") or PICARD_TOL)
+                                      picard_tol=opts.get("picard_tol") or PICARD_TOL,
+                                      other=self.other if heat == "two-sided" else None,
+                                      pressure_melting=bool(opts.get("pressure_melting", True)))
+        self.beta_T = self.vp.beta_T  # 1 with two-sided heat: all the slip heat enters at z = 0 and is conducted
+        self.v_far = np.zeros(n)  # the far end's velocity relative to the hydro node (coupled closure)
         self.columns = self.vp
         for name in NODE_DIAGNOSTICS:
             setattr(self, name, np.zeros(n))
@@ -187,7 +204,10 @@ class SubgridInterface:
 
     def _step_viscoplastic(self, F_N, vf, vp, k, tau_cap, dt, when):
         c = self.vp
-        tau, v_half = c.step(F_N, vf, vp, k, tau_cap, dt)
+        try:
+            tau, v_half = c.step(F_N, vf, vp, k, tau_cap, dt, v_far=self.v_far)
+        except SimulationError as exc:
+            raise SimulationError(f"sub-grid step {self._when(*when)}: {exc}") from None
         j = first_nonzero(c.status)
         if j >= 0:
             raise SimulationError(f"sub-grid step {self._when(*when)}: node {j}: the viscoplastic column solve failed "

@@ -43,6 +43,7 @@ from shockfriction.materials.strength import (
     I_XI,
     I_Y0,
     I_YMAX,
+    scg_melt_temperature,
     scg_shear_ratio,
 )
 
@@ -63,23 +64,27 @@ MAX_SPLIT = 4
 PICARD_TOL = 1e-6
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
- P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL) = range(17)
-N_PAR = 17
+ P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R) = range(18)
+N_PAR = 18
+#: gas constant (J/mol/K), for the melt viscosity's activation volume
+R_GAS = 8.314462618
 # energy accumulators per column (J/m^2), rows of the ``energy`` array
 (E_FRICTION, E_INTERFACE, E_COLUMN_WORK, E_PLASTIC, E_VISCOUS, E_SOFTENING, E_RADIATED, E_HEAT_OUT,
- E_NUMERICAL) = range(9)
-N_ENERGY = 9
+ E_NUMERICAL, E_OTHER) = range(10)
+N_ENERGY = 10
 # planes of the kernel's scratch block (N_WORK, n_nodes + 1, n_columns)
 (W_TIT, W_EMAT, W_TMAT, W_PHM, W_VN, W_LO, W_DI, W_UP, W_RHS, W_S, W_SRC, W_EN, W_RBULK, W_TK, W_DT, W_PHC, W_G,
- W_KF, W_ETA, W_SOLD, W_YH, W_KC, W_DGP, W_SNEW, W_GDM) = range(25)
-N_WORK = 25
+ W_KF, W_ETA, W_SOLD, W_YH, W_KC, W_DGP, W_SNEW, W_GDM, W_VT) = range(26)
+N_WORK = 26
 
 
 @njit(cache=True)
-def liquid_viscosity(T, eta_F, E_R, T_F):
-    """Arrhenius melt viscosity eta_L = eta_F exp(E_R (1/T - 1/T_F)), T >= T_F (eta_F at the melting point)."""
-    T = max(T, T_F)
-    return eta_F * math.exp(E_R * (1.0 / T - 1.0 / T_F))
+def liquid_viscosity(T, eta_F, E_R, T_F, T_m=0.0, pV_R=0.0):
+    """Melt viscosity eta_L = eta_F exp(E_R (1/T - 1/T_F) + p V*/(R T)) at T >= T_m (eta_F at the ambient melting
+    point T_F; T_m the melting temperature at the pressure p, default T_F; pV_R = p V*/R in kelvin, the activation
+    volume's pressure factor, 0: none)."""
+    T = max(T, T_F, T_m)
+    return eta_F * math.exp(E_R * (1.0 / T - 1.0 / T_F) + pV_R / T)
 
 
 @njit(cache=True)
@@ -164,8 +169,40 @@ def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta,
 
 
 @njit(cache=True)
+def _cell_pass(v, vt, mask, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S, Kc):
+    """Cell stresses S[c + 1] and stiffnesses Kc[c] at the trial velocities vt, for the columns with mask[j]."""
+    M, nc = G.shape
+    for c in range(M):
+        for j in range(nc):
+            if mask[j]:
+                gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vt[c, j] - vt[c + 1, j], dz[c], dt, G[c, j],
+                                                ge[c, j], eps[c, j], yh[c, j], eta[c, j], kf[c, j], sold[c, j], Y0,
+                                                beta_h, n_h, Ymax, eta_vp, th)
+                S[c + 1, j] = Sm
+                Kc[c, j] = K
+
+
+@njit(cache=True)
+def _slope(j, vt, v, d, S, mass, dt, stick, k, v_free, ts, impedance, Zc, a):
+    """g = sum_i d_i R_i of column j at the trial velocities vt = vn + a d (rows with a Dirichlet condition
+    left out): the derivative of the step's convex incremental energy along the Newton direction d."""
+    nn = vt.shape[0]
+    M = nn - 1
+    g = 0.0
+    if not (stick and k <= 0.0):
+        S0 = (v_free - vt[0, j]) / k if stick else ts
+        g += d[0, j] * (mass[0] * (vt[0, j] - v[0, j]) / dt - S0 + S[1, j])
+    for i in range(1, M):
+        g += d[i, j] * (mass[i] * (vt[i, j] - v[i, j]) / dt - S[i, j] + S[i + 1, j])
+    if impedance:
+        g += d[M, j] * (mass[M] * (vt[M, j] - v[M, j]) / dt - S[M, j] + Zc * vt[M, j])
+    return g
+
+
+@njit(cache=True)
 def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry):
+                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
+                      TF, v_far, T2, c2, a2, oth):
     """Advance every column by dt (state arrays updated in place; see the module docstring).
 
     State: v (nn, nc) velocity, ge (M, nc) elastic shear strain, Gs (M, nc) modulus of the stored stress
@@ -180,6 +217,12 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     retry (nc,) bool: a column whose Picard iteration does not converge is left as it was (state, energy, de, de2
     unchanged; outputs of its last sweep; iters = -max_iter) for the caller to redo in sub-steps; without retry it
     is committed (its energy balance is exact) with iters = -max_iter.
+    TF (nc,): each column's melting temperature this step (T_m(sigma_n), :func:`melt_temperature`).
+    v_far (nc,): velocity of the far end z = h relative to the hydro node where it is held (far_end = "held";
+    the hydro's own shear of the layer, docs/theory/viscoplastic.md, "Coupled closure"); 0 stand-alone.
+    T2 (n2, nc), c2 (n2,), a2 (n2 - 1,): the other body's thermal column (two-sided heat; n2 = 0: none, the
+    fixed share beta_T): temperatures (node 0 the interface, continuous with T[0]), heat capacities per area
+    (J/m^2/K) and conductances kappa2/dy (W/m^2/K); oth (2, n2, nc) scratch.
     """
     nn, nc = v.shape
     M = nn - 1
@@ -193,7 +236,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     T_far = par[P_T_FAR]  # nan: insulated far end
     fixed_far = math.isfinite(T_far)
     mtol, htol, ptol = par[P_MECH_TOL], par[P_HEAT_TOL], par[P_PICARD_TOL]
-    G0, T_F = p[I_G0], p[I_TF]
+    G0, T_F0 = p[I_G0], p[I_TF]
+    V_R = par[P_V_R]  # activation volume of the melt viscosity over R (K/Pa)
+    n2 = T2.shape[0]
     Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
     tresca = f * Ymax / SQRT3
@@ -233,6 +278,12 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             en[i, j] = e[i, j]
             vn[i, j] = v[i, j]
     hfin = np.zeros(nc)  # heat out of each column's last heat solve
+    al2 = np.zeros(nc)  # the other body: heat taken from node 0 over the step, al2 T'(0) + be2
+    be2 = np.zeros(nc)
+    q2 = np.zeros(nc)
+    q2fin = np.zeros(nc)
+    ts2 = np.zeros(nc)
+    other_body_response(T2, c2, a2, dt, oth, al2, be2)
     fin = np.zeros(nc, np.bool_)  # Picard converged
     for c in range(M):
         for j in range(nc):
@@ -251,6 +302,15 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     xprev = np.zeros(nc)
     rprev = np.zeros(nc)
     omega = np.ones(nc)  # Aitken relaxation factor of the bulk Picard update
+    ls_a = np.zeros(nc)  # line search per column: step, bracket [lo, hi], slopes at 0, lo, hi
+    ls_lo = np.zeros(nc)
+    ls_hi = np.zeros(nc)
+    ls_g0 = np.zeros(nc)
+    ls_glo = np.zeros(nc)
+    ls_ghi = np.zeros(nc)
+    ls_side = np.zeros(nc, np.int64)
+    lsm = np.zeros(nc, np.bool_)
+    vt = work[W_VT, :nn]  # trial velocities of the line search
     dmx = np.empty(nc)  # per-column maxima and sums (the loops run over the nodes, columns innermost)
     anum = np.empty(nc)
     aden = np.empty(nc)
@@ -269,7 +329,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         for i in range(nn):
             for j in range(nc):
                 if act[j]:
-                    Tmat[i, j], _, phm[i, j] = temperature_of(Emat[i, j], rho_c, rho_L, T0, T_F)
+                    Tmat[i, j], _, phm[i, j] = temperature_of(Emat[i, j], rho_c, rho_L, T0, TF[j])
         for c in range(M):
             for j in range(nc):
                 if not act[j]:
@@ -277,32 +337,32 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 Tc = 0.5 * (Tmat[c, j] + Tmat[c + 1, j])
                 ph = 0.5 * (phm[c, j] + phm[c + 1, j])
                 phc[c, j] = ph
-                r = scg_shear_ratio(F_N[j], Tc, g_p, h_p, xi, T_F) if ph <= 0.0 else 0.0
+                r = scg_shear_ratio(F_N[j], Tc, g_p, h_p, xi, TF[j]) if ph <= 0.0 else 0.0
                 G[c, j] = G0 * r
                 kf[c, j] = r / SQRT3
                 # a cell with melt carries it as a liquid layer ph dz in series with rigid solid (sub-cell film)
-                eta[c, j] = liquid_viscosity(Tc, eta_F, E_R, T_F) / max(ph, PHI_MIN) if r <= 0.0 else 0.0
+                eta[c, j] = liquid_viscosity(Tc, eta_F, E_R, T_F0, TF[j], max(F_N[j], 0.0) * V_R) / max(ph, PHI_MIN) \
+                    if r <= 0.0 else 0.0
         for j in range(nc):
             if not act[j]:
                 continue
             Zc[j] = math.sqrt(rho * G[M - 1, j])  # far-end impedance rho c_s with c_s^2 = G(p, T(h))/rho
             cp = tau_cap[j]
             if f >= 0.0:
-                t = tresca * scg_shear_ratio(F_N[j], Tmat[0, j], g_p, h_p, xi, T_F)
+                t = tresca * scg_shear_ratio(F_N[j], Tmat[0, j], g_p, h_p, xi, TF[j])
                 cp = min(cp, t)
             cap[j] = cp
-        # ---- mechanics: Newton on the node velocities, slip/stick switch at z = 0
+        # ---- mechanics: Newton on the node velocities with an exact line search (the backward-Euler step is the
+        # minimum of a strongly convex function: the line search makes the Newton globally convergent also in the
+        # rate-independent limit, where the consistent tangent jumps from 1 to ~0 at the plastic front), slip/stick
+        # switch at z = 0
         for j in range(nc):
             nsw[j] = 0
+        fresh = False  # S[1:nn] and Kc hold the cell states at vn
         for it in range(200):
-            for c in range(M):
-                for j in range(nc):
-                    if act[j]:
-                        gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vn[c, j] - vn[c + 1, j], dz[c], dt,
-                                                        G[c, j], ge[c, j], eps[c, j], yh[c, j], eta[c, j], kf[c, j],
-                                                        sold[c, j], Y0, beta_h, n_h, Ymax, eta_vp, th)
-                        S[c + 1, j] = Sm
-                        Kc[c, j] = K
+            if not fresh:
+                _cell_pass(v, vn, act, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S,
+                           Kc)
             for j in range(nc):
                 if not act[j]:
                     continue
@@ -339,20 +399,78 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                         lo[M, j] = -Kc[M - 1, j]
                         di[M, j] = mass[M] / dt + Kc[M - 1, j] + th * Zc[j]
                         rhs[M, j] = -(mass[M] * (vn[M, j] - v[M, j]) / dt - S[M, j] + S[nn, j])
-                    else:
+                    else:  # held at the hydro's velocity there (v_far), or at rest (quasi-static)
                         lo[M, j] = 0.0
                         di[M, j] = 1.0
-                        rhs[M, j] = -vn[M, j]
+                        rhs[M, j] = (v_far[j] if held else 0.0) - vn[M, j]
             _thomas_masked(lo, di, up, rhs, act, nn, nc)
-            # plain Newton; damped when it cycles between plastic and elastic cells (piecewise-smooth return)
-            damp = 1.0 if it < 25 else (0.5 if it < 100 else 0.25)
+            # line search on the slope g(a) = d . R(vn + a d), increasing in a (convexity): a = 1 unless it
+            # overshoots the minimum along d (g(1) > |g(0)|/4), then regula falsi (Illinois) on g
+            for j in range(nc):
+                if act[j]:
+                    ls_g0[j] = _slope(j, vn, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], inertia and not held,
+                                      Zc[j], 0.0)
+                    ls_a[j] = 1.0
+                    ls_lo[j] = 0.0
+                    ls_glo[j] = ls_g0[j]
+                    ls_hi[j] = 1.0
+                    ls_side[j] = 0
+            for i in range(nn):
+                for j in range(nc):
+                    if act[j]:
+                        vt[i, j] = vn[i, j] + rhs[i, j]
+            _cell_pass(v, vt, act, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S, Kc)
+            for ls in range(12):
+                more = False
+                for j in range(nc):
+                    lsm[j] = False
+                    if not act[j]:
+                        continue
+                    g = _slope(j, vt, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], inertia and not held,
+                               Zc[j], ls_a[j])
+                    if ls == 0:
+                        ls_ghi[j] = g
+                    if not (ls_g0[j] < 0.0 and g > 0.25 * abs(ls_g0[j])) and not (ls > 0 and g < 0.0
+                                                                                 and g < -0.25 * abs(ls_g0[j])):
+                        continue  # accepted
+                    if ls == 11:
+                        continue
+                    if g > 0.0:  # Illinois: keep the bracket [lo, hi] with g(lo) < 0 < g(hi)
+                        ls_hi[j] = ls_a[j]
+                        ls_ghi[j] = g
+                        if ls_side[j] == 1:
+                            ls_glo[j] *= 0.5
+                        ls_side[j] = 1
+                    else:
+                        ls_lo[j] = ls_a[j]
+                        ls_glo[j] = g
+                        if ls_side[j] == -1:
+                            ls_ghi[j] *= 0.5
+                        ls_side[j] = -1
+                    den = ls_ghi[j] - ls_glo[j]
+                    a_new = (ls_lo[j] * ls_ghi[j] - ls_hi[j] * ls_glo[j]) / den if den > 0.0 else 0.5 * (
+                        ls_lo[j] + ls_hi[j])
+                    if not (ls_lo[j] < a_new < ls_hi[j]):
+                        a_new = 0.5 * (ls_lo[j] + ls_hi[j])
+                    ls_a[j] = a_new
+                    lsm[j] = True
+                    more = True
+                if not more:
+                    break
+                for i in range(nn):
+                    for j in range(nc):
+                        if lsm[j]:
+                            vt[i, j] = vn[i, j] + ls_a[j] * rhs[i, j]
+                _cell_pass(v, vt, lsm, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S,
+                           Kc)
+            fresh = True
             for j in range(nc):
                 dmx[j] = 0.0
             for i in range(nn):
                 for j in range(nc):
                     if act[j]:
-                        vn[i, j] += damp * rhs[i, j]
-                        dmx[j] = max(dmx[j], abs(rhs[i, j]))
+                        dmx[j] = max(dmx[j], abs(vt[i, j] - vn[i, j]))
+                        vn[i, j] = vt[i, j]
             any_act = False
             for j in range(nc):
                 if not act[j]:
@@ -427,11 +545,13 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                 q_in[j] = beta_T * ts[j] * (vm - v0m)  # >= 0: the traction opposes the local slip
                 src[0, j] += q_in[j] * dt
         # ---- heat: backward Euler on the enthalpy
-        hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, htol, 100,
-                           Tk, dT, lo, di, up, rhs)
+        hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_far, T_far, act, htol, 100,
+                           Tk, dT, lo, di, up, rhs, al2, be2, q2)
         for j in range(nc):
             if act[j]:
                 hfin[j] = hout[j]
+                q2fin[j] = q2[j]
+                ts2[j] = Tk[0, j]  # the interface temperature the other body's update takes (as q2 did)
                 if not math.isfinite(hout[j]):
                     status[j] = NO_CONVERGENCE
                     act[j] = False
@@ -523,6 +643,14 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         if inertia and not held:
             vmm = (1.0 - th) * v[M, j] + th * vn[M, j]
             energy[E_RADIATED, j] += Zc[j] * vmm * vmm * dt
+        elif vn[M, j] != 0.0:  # held end moving with the hydro's shear: its reaction's work leaves through z = h
+            S_far = S[M, j] - mass[M] * (vn[M, j] - v[M, j]) / dt
+            energy[E_RADIATED, j] += S_far * vn[M, j] * dt
+        energy[E_OTHER, j] += q2fin[j]
+        if n2 > 0:
+            T2[0, j] = ts2[j]
+            for kk in range(1, n2):
+                T2[kk, j] = oth[0, kk, j] + oth[1, kk, j] * ts2[j]
         energy[E_HEAT_OUT, j] += hfin[j]
         thick = 0.0
         for i in range(nn):
@@ -557,8 +685,9 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
 
 
 @njit(cache=True)
-def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, j):
-    """Sum of squares of the backward-Euler enthalpy residuals of column j at the enthalpies x (n_nodes,)."""
+def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, j, al2, be2):
+    """Sum of squares of the backward-Euler enthalpy residuals of column j at the enthalpies x (n_nodes,); node 0
+    loses al2 T(0) + be2 to the other body (0, 0: none)."""
     nn = x.size
     total = 0.0
     Tp = 0.0
@@ -567,6 +696,8 @@ def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far,
         if i == nn - 1 and fixed_far:
             break
         res = w[i] * (x[i] - e[i, j]) - src[i, j]
+        if i == 0:
+            res += al2 * Ti + be2
         if i > 0:
             res += dt * kap / dz[i - 1] * (Ti - Tp)
         if i < nn - 1:
@@ -593,13 +724,65 @@ def _kink_stop(a, b, es, es_l, rho_L):
 
 
 @njit(cache=True)
-def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, T_far, act, tol, max_iter,
-                Tk, dT, lo, di, up, rhs):
+def other_body_response(T2, c2, a2, dt, oth, al2, be2):
+    """The other body's thermal column under a surface temperature T_s' (backward Euler, insulated far end), per
+    column j: T2' = A + B T_s' (oth[0] = A, oth[1] = B), and the heat it takes from the interface node over the
+    step, Q2 = al2 T_s' + be2 = c2[0] (T_s' - T2[0]) + dt a2[0] (T_s' - T2'[1]) (J/m^2).  Node 0 of T2 is the
+    interface (its half cell c2[0]), continuous with the column's node 0."""
+    n2, nc = T2.shape
+    if n2 == 0:
+        for j in range(nc):
+            al2[j] = 0.0
+            be2[j] = 0.0
+        return
+    A = oth[0]
+    B = oth[1]
+    # rows 1..n2-1: (c_k + dt a_{k-1} + dt a_k) T'_k - dt a_{k-1} T'_{k-1} - dt a_k T'_{k+1} = c_k T_k (+ dt a_0 Ts)
+    # Thomas with two right-hand sides (A: the old temperatures, B: a unit surface temperature); the pivots are
+    # the same for every column (linear, constant properties): kept in A[0]/B[0] of column 0's slot is avoided by
+    # a local array
+    piv = np.empty(n2)
+    for kk in range(1, n2):
+        d = c2[kk] + dt * a2[kk - 1] + (dt * a2[kk] if kk < n2 - 1 else 0.0)
+        if kk > 1:
+            d -= (dt * a2[kk - 1]) * (dt * a2[kk - 1]) / piv[kk - 1]
+        piv[kk] = d
+    for j in range(nc):
+        for kk in range(1, n2):
+            ra = c2[kk] * T2[kk, j]
+            rb = dt * a2[0] if kk == 1 else 0.0
+            if kk > 1:
+                m = -dt * a2[kk - 1] / piv[kk - 1]
+                ra -= m * A[kk - 1, j]
+                rb -= m * B[kk - 1, j]
+            A[kk, j] = ra
+            B[kk, j] = rb
+        for kk in range(n2 - 1, 0, -1):
+            if kk < n2 - 1:
+                A[kk, j] = (A[kk, j] + dt * a2[kk] * A[kk + 1, j]) / piv[kk]
+                B[kk, j] = (B[kk, j] + dt * a2[kk] * B[kk + 1, j]) / piv[kk]
+            else:
+                A[kk, j] = A[kk, j] / piv[kk]
+                B[kk, j] = B[kk, j] / piv[kk]
+        A[0, j] = 0.0
+        B[0, j] = 1.0
+        if n2 > 1:
+            al2[j] = c2[0] + dt * a2[0] * (1.0 - B[1, j])
+            be2[j] = -c2[0] * T2[0, j] - dt * a2[0] * A[1, j]
+        else:
+            al2[j] = c2[0]
+            be2[j] = -c2[0] * T2[0, j]
+
+
+@njit(cache=True)
+def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_far, T_far, act, tol, max_iter,
+                Tk, dT, lo, di, up, rhs, al2, be2, q2):
     """Backward Euler on the enthalpy, w_i (e'_i - e_i) = dt [kappa dT'/dz]_{i-1/2}^{i+1/2} + src_i (J/m^2), by
     Newton in e' (dT/de = 0 in the mushy zone); then the conservative update e' = e + (src + dt flux(T'))/w from the
     last iterate's temperatures, so that the discrete energy balance is exact.  Far end insulated, or held at T_far
-    (the heat leaving there is returned per column, J/m^2).  Fills en (new enthalpy) and Tout (T(en)); Tk, dT, lo,
-    di, up, rhs (n_nodes, nc) are scratch."""
+    (the heat leaving there is returned per column, J/m^2).  Node 0 also loses q2 = al2 T'(0) + be2 to the other
+    body's column (:func:`other_body_response`; al2 = be2 = 0 without).  TF (nc,): melting temperatures.  Fills en
+    (new enthalpy), Tout (T(en)) and q2; Tk, dT, lo, di, up, rhs (n_nodes, nc) are scratch."""
     nn, nc = e.shape
     M = nn - 1
     trial = np.empty(nn)
@@ -608,8 +791,6 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
     exact = np.zeros(nc, np.bool_)
     dmx = np.zeros(nc)
     hout = np.zeros(nc)
-    es = rho_c * (T_F - T0)  # solidus and liquidus enthalpies
-    es_l = es + rho_L
     for i in range(nn):
         for j in range(nc):
             if act[j]:
@@ -618,7 +799,7 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
         for i in range(nn):
             for j in range(nc):
                 if live[j]:
-                    Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
+                    Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, TF[j])
         for j in range(nc):
             r0[j] = 0.0
         for i in range(nn):
@@ -631,6 +812,9 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 d = w[i]
                 lo[i, j] = 0.0
                 up[i, j] = 0.0
+                if i == 0:
+                    res += al2[j] * Tk[0, j] + be2[j]
+                    d += al2[j] * dT[0, j]
                 if i > 0:
                     res += al * (Tk[i, j] - Tk[i - 1, j])
                     d += al * dT[i, j]
@@ -657,20 +841,23 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
         for i in range(nn):
             for j in range(nc):
                 if live[j]:
-                    dT[i, j], stop = _kink_stop(en[i, j], en[i, j] + rhs[i, j], es, es_l, rho_L)
+                    es = rho_c * (TF[j] - T0)  # solidus and liquidus enthalpies
+                    dT[i, j], stop = _kink_stop(en[i, j], en[i, j] + rhs[i, j], es, es + rho_L, rho_L)
                     if stop:
                         exact[j] = False
         for j in range(nc):
             if not live[j] or exact[j]:
                 continue
+            es = rho_c * (TF[j] - T0)
             lam = 1.0
             for _ in range(8):
                 same = True
                 for i in range(nn):
-                    trial[i], stop = _kink_stop(en[i, j], en[i, j] + lam * rhs[i, j], es, es_l, rho_L)
+                    trial[i], stop = _kink_stop(en[i, j], en[i, j] + lam * rhs[i, j], es, es + rho_L, rho_L)
                     if stop:  # a node changed branch of T(e): the linearised step is not exact
                         same = False
-                if same or _heat_residual2(trial, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, j) < r0[j]:
+                if same or _heat_residual2(trial, e, src, w, dz, dt, kap, rho_c, rho_L, T0, TF[j], fixed_far, j,
+                                           al2[j], be2[j]) < r0[j]:
                     break
                 lam *= 0.5
             exact[j] = same and lam == 1.0
@@ -696,7 +883,7 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
     for i in range(nn):
         for j in range(nc):
             if act[j]:
-                Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
+                Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, TF[j])
     for i in range(nn):
         al = dt * kap / dz[i - 1] if i > 0 else 0.0
         au = dt * kap / dz[i] if i < M else 0.0
@@ -704,6 +891,9 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
             if not act[j]:
                 continue
             flux = src[i, j]
+            if i == 0:
+                q2[j] = al2[j] * Tk[0, j] + be2[j]
+                flux -= q2[j]
             if i > 0:
                 flux -= al * (Tk[i, j] - Tk[i - 1, j])
             if i < M:
@@ -713,8 +903,15 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_f
                 en[i, j] = e[i, j]
             else:
                 en[i, j] = e[i, j] + flux / w[i]
-            Tout[i, j], _, _ = temperature_of(en[i, j], rho_c, rho_L, T0, T_F)
+            Tout[i, j], _, _ = temperature_of(en[i, j], rho_c, rho_L, T0, TF[j])
     return hout
+
+
+@njit(cache=True)
+def melt_temperatures(F_N, law, TF):
+    """TF[j] = T_m(F_N[j]) by the SCG melt law (law = (T_m0, K0, s, gamma0, a), Material.melt_law)."""
+    for j in range(F_N.shape[0]):
+        TF[j] = scg_melt_temperature(F_N[j], law[0], law[1], law[2], law[3], law[4])
 
 
 def predictor_weights(h, h1, h2):
@@ -773,7 +970,9 @@ class ViscoplasticColumns:
                  far_temperature: float | None = None, latent_heat: float | None = None,
                  liquid_viscosity: float | None = None, liquid_activation: float | None = None,
                  far_end: str = "impedance", mech_tol: float = 1e-13, heat_tol: float = 1e-11,
-                 picard_tol: float = PICARD_TOL, max_picard: int = 100):
+                 picard_tol: float = PICARD_TOL, max_picard: int = 100, other=None,
+                 pressure_melting: bool = True, other_ratio: float = 1.05,
+                 liquid_activation_volume: float | None = None):
         from shockfriction.friction.subgrid.column import control_weights, extend_grid, make_grid
         from shockfriction.materials.library import get_material
         m = get_material(material) if isinstance(material, str) else material
@@ -782,6 +981,10 @@ class ViscoplasticColumns:
             raise ValueError(f"n_columns must be >= 1, got {n_columns!r}")
         if not 0.0 <= beta_T <= 1.0:
             raise ValueError(f"heat share must lie in [0, 1], got {beta_T!r}")
+        if other is not None:  # two-sided heat: the other body conducts its share, beta_T is not used
+            other = get_material(other) if isinstance(other, str) else other
+            beta_T = 1.0
+        self.other = other
         T_F = m.melting_temperature
         self.z = make_grid(thickness, int(n_cells), grading)
         if depth is not None:
@@ -815,9 +1018,14 @@ class ViscoplasticColumns:
         self.par[P_Z] = rho * m.shear_wave_speed if far_end == "impedance" else math.inf
         self.par[P_INERTIA] = 1.0 if inertia else 0.0
         self.par[P_T_FAR] = math.nan if far_temperature is None else float(far_temperature)
+        V_act = pick(liquid_activation_volume, "liquid_viscosity_activation_volume", 0.0)
+        self.par[P_V_R] = V_act / R_GAS if pressure_melting else 0.0
         self.par[[P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL]] = mech_tol, heat_tol, picard_tol
         self.max_picard = int(max_picard)
         self.scg = m.scg_params()
+        # melting temperature T_m(sigma_n) of each column (SCG melt law), or the constant T_F
+        self.melt_law = m.melt_law() if pressure_melting else (T_F, 0.0, 0.0, 0.0, 0.0)
+        self.pressure_melting = bool(pressure_melting) and self.melt_law[1] > 0.0
         self.T0, self.T_F, self.beta_T = float(T0), T_F, float(beta_T)
         nn, nc = self.z.size, int(n_columns)
         self.v = np.zeros((nn, nc))
@@ -836,6 +1044,31 @@ class ViscoplasticColumns:
         self._de2 = np.zeros((nn, nc))
         self._dt_prev = np.zeros(2)  # their time steps (0: none); the three are checkpointed with the state
         self._work = np.empty((N_WORK, nn + 1, nc))  # the kernel's scratch, allocated once
+        self.TF = np.full(nc, float(T_F))  # melting temperature of each column at its last step
+        self._v_far = np.zeros(nc)
+        # the other body's thermal column (two-sided heat): first cell as the column's, geometric (other_ratio) down
+        # to the column's thermal reach scaled by the diffusivities, sqrt(alpha2/alpha1) z[-1]
+        if other is not None:
+            from shockfriction.friction.subgrid.column import control_weights
+            d2 = max(self.z[-1] * math.sqrt(other.diffusivity / m.diffusivity), 50.0 * self.dz[0])
+            y = [0.0]
+            step = self.dz[0]
+            while y[-1] < d2:
+                y.append(y[-1] + step)
+                step *= float(other_ratio)
+            self.z_other = np.array(y)
+            rc2 = other.rho0 * other.heat_capacity
+            self._c2 = rc2 * control_weights(self.z_other)
+            self._a2 = other.conductivity / np.diff(self.z_other)
+            self.T_other = np.full((self.z_other.size, nc), self.T0)
+            self._rc2 = rc2
+        else:
+            self.z_other = np.zeros(0)
+            self._c2 = np.zeros(0)
+            self._a2 = np.zeros(0)
+            self.T_other = np.zeros((0, nc))
+            self._rc2 = 0.0
+        self._oth = np.empty((2, self.z_other.size, nc))
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
     @property
@@ -851,47 +1084,68 @@ class ViscoplasticColumns:
         self._dt_prev[:] = 0.0  # no prediction across an imposed state
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
-    def step(self, sigma_n, v_free, slip_prev, k, tau_cap, dt: float):
-        """Advance all columns by dt; return (tau, v_half) (see the class docstring)."""
+    def step(self, sigma_n, v_free, slip_prev, k, tau_cap, dt: float, v_far=0.0):
+        """Advance all columns by dt; return (tau, v_half) (see the class docstring).  ``v_far``: velocity of the
+        held far end relative to the hydro node (the coupled closure; 0 stand-alone).  A column whose solve fails
+        even on dt/2**MAX_SPLIT sub-steps raises :class:`~shockfriction.errors.SimulationError` naming it (the
+        columns are then left as they were before the step)."""
         nc = self.n_columns
         arr = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float), (nc,)))
-               for a in (sigma_n, v_free, slip_prev, k, tau_cap)]
+               for a in (sigma_n, v_free, slip_prev, k, tau_cap, v_far)]
         self._advance(*arr, float(dt), 0)
+        bad = np.flatnonzero(self.status != OK)
+        if bad.size:
+            from shockfriction.errors import SimulationError
+            j = int(bad[0])
+            what = "non-finite input" if self.status[j] == BAD_INPUT else (
+                f"no convergence on {2 ** MAX_SPLIT} sub-steps of {float(dt):.6g} s")
+            raise SimulationError(f"viscoplastic column {j}: {what} (sigma_n = {arr[0][j]:.6g} Pa, "
+                                  f"free slip {arr[1][j]:.6g} m/s, theta(0) = {self.T[0, j]:.6g} K; "
+                                  f"{bad.size} column(s) failed)")
         self.slip_macro[:] = np.abs(0.5 * (self._v_half + arr[2]))
         return self.tau.copy(), self._v_half.copy()
 
-    def _advance(self, F_N, v_free, v_prev, k, tau_cap, dt: float, level: int) -> None:
-        """One step of dt (per-column input arrays); a column with imposed slip (k = 0) whose Picard iteration
-        does not converge is redone as two steps of dt/2 (:meth:`_split`), down to dt/2**MAX_SPLIT."""
+    def _advance(self, F_N, v_free, v_prev, k, tau_cap, v_far, dt: float, level: int) -> None:
+        """One step of dt (per-column input arrays); a column whose Picard iteration does not converge, or whose
+        solve fails, is redone as two steps of dt/2 (:meth:`_split`), down to dt/2**MAX_SPLIT."""
         h1, h2 = self._dt_prev
         pw = predictor_weights(dt, h1, h2)
         self._dt_prev[:] = dt, h1
-        retry = (k == 0.0) & (level < MAX_SPLIT)
+        if self.pressure_melting:
+            melt_temperatures(F_N, self.melt_law, self.TF)
+        retry = np.full(self.n_columns, level < MAX_SPLIT)
         viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
                           F_N, v_free, v_prev, k, tau_cap, self.scg, self.par, dt, self.max_picard, self.tau,
                           self._v_half, self.slip_local, self.flux_in, self.film_thickness, self.iterations,
-                          self.status, self.energy, self._de, self._de2, pw, self._work, retry)
+                          self.status, self.energy, self._de, self._de2, pw, self._work, retry,
+                          self.TF, v_far, self.T_other, self._c2, self._a2, self._oth)
         self.substeps[:] = 1
-        redo = np.flatnonzero(retry & (self.iterations < 0) & (self.status == OK))
+        redo = np.flatnonzero(retry & (((self.iterations < 0) & (self.status == OK))
+                                       | (self.status == NO_CONVERGENCE)))
         if redo.size:
-            self._split(redo, F_N, v_free, v_prev, k, tau_cap, dt, level, (h1, h2))
+            self._split(redo, F_N, v_free, v_prev, k, tau_cap, v_far, dt, level, (h1, h2))
 
-    def _split(self, cols, F_N, v_free, v_prev, k, tau_cap, dt, level, dt_prev) -> None:
+    def _split(self, cols, F_N, v_free, v_prev, k, tau_cap, v_far, dt, level, dt_prev) -> None:
         """Redo the step of columns ``cols`` (left unchanged by the kernel) as two steps of dt/2 on a copy of them;
         tau, slip_local and flux_in become the means over the step, iterations the sweeps of all sub-steps
-        (negative if one of them still did not converge), substeps their number."""
+        (negative if one of them still did not converge), substeps their number.  With a finite partner mass
+        (k > 0) each half step takes k/2 and the free slip the first half left: the two impulses add up to the
+        step's, tau being their mean (what the hydrocode applies over dt)."""
         sub = object.__new__(ViscoplasticColumns)
         sub.__dict__.update(self.__dict__)  # the grid and the parameters; the arrays below are the columns' own
-        for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "_de", "_de2"):
+        for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "_de", "_de2", "T_other"):
             setattr(sub, name, np.ascontiguousarray(getattr(self, name)[:, cols]))
         n = cols.size
         for name in ("tau", "slip_local", "slip_macro", "flux_in", "film_thickness", "_v_half"):
             setattr(sub, name, np.zeros(n))
+        sub.TF = self.TF[cols].copy()
         sub.iterations, sub.status, sub.substeps = (np.zeros(n, np.int64) for _ in range(3))
         sub._dt_prev = np.array(dt_prev, float)
         sub._work = np.empty((N_WORK, self.z.size + 1, n))
+        sub._oth = np.empty((2, self.z_other.size, n))
         e_start, de_prev = sub.e.copy(), sub._de.copy()
-        args = [np.ascontiguousarray(a[cols]) for a in (F_N, v_free, v_prev, k, tau_cap)]
+        args = [np.ascontiguousarray(a[cols]) for a in (F_N, v_free, v_prev, k, tau_cap, v_far)]
+        args[3] = 0.5 * args[3]
         tau, slip, flux = np.zeros(n), np.zeros(n), np.zeros(n)
         sweeps, steps = np.zeros(n, np.int64), np.zeros(n, np.int64)
         failed = np.zeros(n, bool)
@@ -906,13 +1160,18 @@ class ViscoplasticColumns:
             status = np.maximum(status, sub.status)  # a failed sub-step fails the step
             steps += sub.substeps
             args[2] = sub._v_half.copy()  # the next sub-step's [V]^{n-1/2}
-        for name in ("v", "ge", "Gs", "eps", "e", "T", "energy"):
-            getattr(self, name)[:, cols] = getattr(sub, name)
-        self._de[:, cols] = sub.e - e_start  # the predictor's history: the change over the whole step dt
-        self._de2[:, cols] = de_prev
+            args[1] = np.where(args[3] > 0.0, sub._v_half, args[1])  # and, with a partner mass, its free slip
+        ok = status == OK
+        if ok.any():
+            keep = cols[ok]
+            for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "T_other"):
+                getattr(self, name)[:, keep] = getattr(sub, name)[:, ok]
+            self._de[:, keep] = (sub.e - e_start)[:, ok]  # the predictor's history: the change over the whole dt
+            self._de2[:, keep] = de_prev[:, ok]
         self.tau[cols], self.slip_local[cols], self.flux_in[cols] = tau, slip, flux
         self._v_half[cols] = sub._v_half
         self.film_thickness[cols] = sub.film_thickness
+        self.TF[cols] = sub.TF
         self.status[cols] = status
         self.iterations[cols] = np.where(failed, -sweeps, sweeps)
         self.substeps[cols] = steps
@@ -940,12 +1199,19 @@ class ViscoplasticColumns:
         return (self.Gs * self.ge).T.copy()
 
     def melt_fraction(self) -> np.ndarray:
-        es = self.rho_c * (self.T_F - self.T0)
+        es = self.rho_c * (self.TF - self.T0)  # each column's melting temperature at its last step
         return np.clip((self.e - es) / self.rho_L, 0.0, 1.0)
 
     def heat_stored(self) -> np.ndarray:
         """Enthalpy per unit area (J/m^2): sensible + latent."""
         return self.weights @ self.e
+
+    def other_heat_stored(self) -> np.ndarray:
+        """Heat in the other body's thermal column (J/m^2; two-sided heat, zeros otherwise): equals
+        ``energies()["heat_conducted_other"]`` to round-off."""
+        if self.z_other.size == 0:
+            return np.zeros(self.n_columns)
+        return self._c2 @ (self.T_other - self.T0)
 
     def latent_stored(self) -> np.ndarray:
         return self.rho_L * (self.weights @ self.melt_fraction())
@@ -965,9 +1231,11 @@ class ViscoplasticColumns:
         E = self.energy
         out = {name: E[i].copy() for i, name in enumerate(
             ("friction_work", "heat_interface", "column_work", "plastic_work", "viscous_heat", "softening_heat",
-             "radiated", "heat_out", "numerical_heat"))}
+             "radiated", "heat_out", "numerical_heat", "heat_conducted_other"))}
         bQ = self.par[P_BETA_Q]
-        out["heat_other_body"] = out["friction_work"] - out["heat_interface"] - out["column_work"]
+        # the other body's heat: its fixed share (1 - beta_T) of the slip heat, or (two-sided heat) what it conducted
+        out["heat_other_body"] = out["friction_work"] - out["heat_interface"] - out["column_work"] \
+            + out["heat_conducted_other"]
         out["cold_work"] = (1.0 - bQ) * out["plastic_work"]
         out["kinetic"] = self.kinetic()
         out["elastic"] = self.elastic()
@@ -982,6 +1250,6 @@ class ViscoplasticColumns:
         other = d["friction_work"] - d["heat_interface"] / self.beta_T - d["column_work"] if self.beta_T > 0 else 0.0
         total = ((1.0 - self.beta_T) / self.beta_T * d["heat_interface"] if self.beta_T > 0 else 0.0) + other
         total = total + d["heat_stored"] + d["heat_out"] + d["cold_work"] + d["kinetic"] + d["elastic"] \
-            + d["radiated"] - self._e_initial
+            + d["radiated"] + d["heat_conducted_other"] - self._e_initial
         scale = np.maximum(np.abs(d["friction_work"]), np.abs(d["column_work"]))
         return (d["friction_work"] - total) / np.where(scale > 0, scale, 1.0)
