@@ -3,7 +3,11 @@ tool steel at 250 m/s under 5 GPa at a kinetic Coulomb stress of 250 MPa (docs/t
 
 The film grows to ~13 nm in 1 us, thinner than the hydrocode's 40 nm cells; the sub-cell film law (a mushy cell
 carries its melt as a liquid layer phi dz) must give the same friction stress and film thickness on 40, 20 and
-10 nm cells. Checked against the plain Coulomb baseline (250 MPa throughout) and the film/conduction balance."""
+10 nm cells. Checked against the plain Coulomb baseline (250 MPa throughout) and the film/conduction balance.
+These tests check the film numerics at the ambient melting point and viscosity, with the fixed heat share
+(``pressure_melting=False``, no other-body column: the model of version 0.3 on the Steinberg 7075-T6 set); the
+pressure-dependent melt and the two-sided heat are tested in test_viscoplastic_heat_and_melt.py and the
+YLP example's numbers with them in test_subgrid_cli.py."""
 
 import math
 
@@ -23,7 +27,8 @@ SAMPLES = (500, 1000)  # steps: 0.5 and 1 us (fixed before the runs)
 def run(dz):
     layer = 2e-6
     col = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=layer, n_cells=int(round(layer / dz)),
-                              depth=1.2 * AL.shear_wave_speed * T_END, eta_vp=50.0, inertia=True)
+                              depth=1.2 * AL.shear_wave_speed * T_END, eta_vp=50.0, inertia=True,
+                              pressure_melting=False)
     out = {"onset": None, "status": 0}
     for s in range(1, int(round(T_END / DT)) + 1):
         tau, _ = col.step(SIGMA_N, V, V, 0.0, MU0 * SIGMA_N, DT)  # imposed slip, Coulomb cap 250 MPa
@@ -49,13 +54,14 @@ def test_runs_clean_and_conserve_energy(runs):
 
 def test_film_is_grid_independent(runs):
     """tau and the film thickness at 0.5 and 1 us on 40 / 20 / 10 nm cells: measured spread <= 0.12 % (tau)
-    and 0.15 % (film); the melt onset (first molten step) on every grid at step 100."""
+    and 0.15 % (film); the melt onset (first molten step) on every grid at step 92 (step 100 with the 2024-T4
+    strength set of version 0.3)."""
     ref = runs[10e-9]
     for dz in (40e-9, 20e-9):
         for s in SAMPLES:
             assert runs[dz][s][0] == pytest.approx(ref[s][0], rel=3e-3)
             assert runs[dz][s][1] == pytest.approx(ref[s][1], rel=3e-3)
-    assert {r["onset"] for r in runs.values()} == {100}
+    assert {r["onset"] for r in runs.values()} == {92}
 
 
 def test_friction_falls_far_below_coulomb(runs):
@@ -86,7 +92,8 @@ def onset(dz, dt, t_end=0.15e-6):
     """tau (Pa) and film thickness after every step to t_end, and the time of the first molten step."""
     layer = 2e-6
     col = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=layer, n_cells=int(round(layer / dz)),
-                              depth=1.2 * AL.shear_wave_speed * t_end, eta_vp=50.0, inertia=True)
+                              depth=1.2 * AL.shear_wave_speed * t_end, eta_vp=50.0, inertia=True,
+                              pressure_melting=False)
     n = int(round(t_end / dt))
     t, tau, film = np.arange(1, n + 1) * dt, np.empty(n), np.empty(n)
     for s in range(n):
@@ -101,22 +108,24 @@ def test_melt_onset_transient():
     T_F at the same step on 40 and 10 nm cells; the friction stress then falls from 250 MPa to ~120 MPa in ~5 ns,
     faster than the 1 ns step resolves, and the 40 nm surface cell starts melting later than the 10 nm one
     (enthalpy smearing over its 20 nm control volume), so the value at the first molten 1 ns step differs by
-    9 % between the grids (measured 166.6 / 152.3 MPa; a limitation, pinned so that a change is noticed).
-    5 ns later the four runs (40 / 10 nm cells, 1 / 0.25 ns steps) agree to 1.8 % (measured), 50 ns later to 0.6 %."""
+    9 % between the grids (measured 168.1 / 153.6 MPa; a limitation, pinned so that a change is noticed).
+    5 ns later the four runs (40 / 10 nm cells, 1 / 0.25 ns steps) agree to 2.2 % (measured), 50 ns later to 0.55 %.
+    (Onset at 92 ns on the Steinberg 7075-T6 set; 100 ns on the 2024-T4 set of version 0.3, with 1.8 / 0.6 %.)"""
     runs = {(dz, dt): onset(dz, dt) for dz in (40e-9, 10e-9) for dt in (1e-9, 0.25e-9)}
     first = {}
     for key, (t, tau, film) in runs.items():
         first[key] = t[np.argmax(film > 0.0)]
-    assert first[40e-9, 1e-9] == first[10e-9, 1e-9] == pytest.approx(100e-9)
-    assert first[40e-9, 0.25e-9] == first[10e-9, 0.25e-9] == pytest.approx(99.75e-9)
+    onset_t = 92e-9
+    assert first[40e-9, 1e-9] == first[10e-9, 1e-9] == pytest.approx(onset_t)
+    assert first[40e-9, 0.25e-9] == first[10e-9, 0.25e-9] == pytest.approx(onset_t - 0.25e-9)
 
     def at(key, time):
         t, tau, _ = runs[key]
         return tau[int(np.argmin(np.abs(t - time)))]
 
-    jump = at((40e-9, 1e-9), 100e-9) / at((10e-9, 1e-9), 100e-9) - 1.0
-    assert 0.05 < jump < 0.12  # regression pin of the unresolved transient (measured 0.093)
-    for time, tol in ((105e-9, 0.022), (150e-9, 0.008)):
+    jump = at((40e-9, 1e-9), onset_t) / at((10e-9, 1e-9), onset_t) - 1.0
+    assert 0.05 < jump < 0.12  # regression pin of the unresolved transient (measured 0.094)
+    for time, tol in ((onset_t + 5e-9, 0.025), (onset_t + 50e-9, 0.007)):
         vals = [at(key, time) for key in runs]
         spread = max(vals) / min(vals) - 1.0
         print(f"\nt = {time * 1e9:.0f} ns: tau {[round(float(v) / 1e6, 2) for v in vals]} MPa, spread {spread:.2%}", end="")
@@ -126,7 +135,7 @@ def test_melt_onset_transient():
 def _limited(max_picard, k=0.0, t_end=0.2e-6, dz=40e-9):
     col = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=2e-6, n_cells=int(round(2e-6 / dz)),
                               depth=1.2 * AL.shear_wave_speed * t_end, eta_vp=50.0, inertia=True,
-                              max_picard=max_picard)
+                              max_picard=max_picard, pressure_melting=False)
     tau, sub, its = [], [], []
     for _ in range(int(round(t_end / DT))):
         tau.append(col.step(SIGMA_N, V, V, k, MU0 * SIGMA_N, DT)[0][0])
@@ -138,21 +147,23 @@ def _limited(max_picard, k=0.0, t_end=0.2e-6, dz=40e-9):
 
 def test_unconverged_step_is_split():
     """A step of an imposed-slip column whose Picard iteration does not converge is redone as two half steps
-    (recursively, down to dt/16).  With the sweep limit cut to 10, the onset on 40 nm cells needs it (measured: 2
-    steps split, at most 4 sub-steps, none left unconverged); the history then follows the limit-100 run
-    (no split) to 4.3e-4 / 4.1e-4 / 2.6e-4 in tau at 120 / 150 / 200 ns, with the energy balance exact."""
+    (recursively, down to dt/16).  With the sweep limit cut to 10, the onset on 40 nm cells needs it (measured: 40
+    steps split, at most 5 sub-steps, none left unconverged); the history then follows the limit-100 run
+    (no split) to 4.6e-4 / 3.1e-4 / 2.7e-4 in tau at 120 / 150 / 200 ns, with the energy balance exact."""
     ref, ref_sub, ref_its, _ = _limited(100)
     tau, sub, its, residual = _limited(10)
     assert np.all(ref_sub == 1) and np.all(ref_its > 0)
-    assert 1 <= np.count_nonzero(sub > 1) <= 4 and sub.max() <= 8 and np.all(its > 0)
+    assert 1 <= np.count_nonzero(sub > 1) <= 50 and sub.max() <= 8 and np.all(its > 0)
     assert residual < 1e-13
     for step in (120, 150, 200):
         assert tau[step - 1] == pytest.approx(ref[step - 1], rel=8e-4)
 
 
-def test_coupled_column_is_not_split():
-    """With a macroscopic compliance (k > 0, a slide-line node) the step is not split (the hydrocode applies one
-    traction over its step): an unconverged step is kept, flagged by negative iterations."""
+def test_coupled_column_is_split_too():
+    """With a macroscopic compliance (k > 0, a slide-line node) an unconverged step is split as well: each half step
+    takes k/2 and the free slip the first half left, so the impulses add up to the step's and tau is their mean
+    (version 0.3 kept the step unsplit).  With the sweep limit cut to 3: 29 steps split, up to 16 sub-steps, 24
+    still unconverged on dt/16 (kept, flagged by negative iterations); energy balance 4.1e-12."""
     tau, sub, its, residual = _limited(3, k=1e-12, t_end=0.12e-6)
-    assert np.all(sub == 1) and np.any(its < 0)
-    assert residual < 2e-12  # measured 4.6e-13
+    assert np.count_nonzero(sub > 1) >= 20 and sub.max() == 16 and np.any(its < 0)
+    assert residual < 6e-12  # measured 4.1e-12

@@ -11,18 +11,24 @@ stress in the loading sense, v the material velocity relative to the body, gamma
     d e/dt = d/dz(kappa dT/dz) + beta_Q s_sol gamma_p_dot + eta_L gamma_dot^2 (+ softening release)
     e = rho c (T - T0) + rho L phi           (enthalpy; phi in [0, 1] the melt fraction at T_F)
 
-G and Y are the SCG functions of materials/strength.py with p = sigma_n.  Surface traction
-(the thesis's law, the column's own resistance as the model stress)::
+G and Y are the SCG functions of materials/strength.py with p = sigma_n; the melting temperature T_F is the SCG
+melt law T_m(sigma_n) of each column (``pressure_melting``) and the melt viscosity carries exp(p V*/(R T)).
+Surface traction (the thesis's law, the column's own resistance as the model stress)::
 
     |s(0)| = min(mu0 sigma_n, tau_stick, f Ymax/sqrt(3) G(sigma_n, T(0))/G0 [optional], column stress at sticking)
 
-slip heat beta_T |s(0)| (V - v(0)) enters at z = 0.  Far end: impedance s = rho c_s v (inertia on) or
-v = 0 (quasi-static); thermally insulated, or a fixed temperature.
+The slip heat |s(0)| (V - v(0)) enters at z = 0: all of it, the other body taking its part by conduction through
+its own thermal column (two-sided heat, continuity of temperature and flux at z = 0), or the fixed share beta_T of
+it (the thesis's eq. 2.101).  Far end: impedance s = rho c_s v, or held at a given velocity (``far_end = "held"``:
+0 stand-alone, the hydro's shear of the layer under a slide line), or v = 0 (quasi-static); thermally insulated,
+or a fixed temperature.
 
 Discretisation: staggered grid, v and e at the nodes z_i (lumped masses rho w_i), s, gamma_e, eps in the
-cells.  Mechanics by the implicit midpoint rule (trapezoidal, energy-conserving for the elastic part),
-plastic return by backward Euler with implicit hardening (scalar convex Newton per cell), heat by backward
-Euler on the enthalpy with a conservative final update; mechanics and heat coupled by Picard iterations.
+cells.  Mechanics by backward Euler (L-stable; its dissipation is deposited as heat, so energy is exact), a
+Newton on the node velocities with an exact line search on the step's convex incremental energy; plastic return
+by backward Euler with implicit hardening (scalar convex Newton per cell); heat by backward Euler on the enthalpy
+with a conservative final update; mechanics and heat coupled by Picard iterations.  A column that does not
+converge is redone on sub-steps (dt/2 ... dt/16); one that still fails raises.
 All 2D arrays are (n_nodes or n_cells, n_columns): the column index is innermost.
 """
 
@@ -64,8 +70,11 @@ MAX_SPLIT = 4
 PICARD_TOL = 1e-6
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
- P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R) = range(18)
-N_PAR = 18
+ P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R, P_MAX_NEWTON) = range(19)
+N_PAR = 19
+#: iterations of the mechanics Newton in one Picard sweep (a column that needs more fails its step, which is then
+#: redone in sub-steps)
+MAX_NEWTON = 200
 #: gas constant (J/mol/K), for the melt viscosity's activation volume
 R_GAS = 8.314462618
 # energy accumulators per column (J/m^2), rows of the ``energy`` array
@@ -236,6 +245,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     T_far = par[P_T_FAR]  # nan: insulated far end
     fixed_far = math.isfinite(T_far)
     mtol, htol, ptol = par[P_MECH_TOL], par[P_HEAT_TOL], par[P_PICARD_TOL]
+    max_newton = int(par[P_MAX_NEWTON])
     G0, T_F0 = p[I_G0], p[I_TF]
     V_R = par[P_V_R]  # activation volume of the melt viscosity over R (K/Pa)
     n2 = T2.shape[0]
@@ -359,7 +369,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
         for j in range(nc):
             nsw[j] = 0
         fresh = False  # S[1:nn] and Kc hold the cell states at vn
-        for it in range(200):
+        for it in range(max_newton):
             if not fresh:
                 _cell_pass(v, vn, act, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S,
                            Kc)
@@ -954,7 +964,13 @@ class ViscoplasticColumns:
     depth >= c_s t_end nothing reaches the far end and the answer no longer depends on the column (the issue-10
     well-posedness fix; ``thickness``/``n_cells`` then set the uniformly resolved interface layer);
     ``far_temperature`` (None: insulated far end).  Melt data from the material (``latent_heat``,
-    ``liquid_viscosity`` at T_F, ``liquid_viscosity_activation``) or the keyword arguments.
+    ``liquid_viscosity`` at T_F, ``liquid_viscosity_activation``, ``liquid_viscosity_activation_volume``) or the
+    keyword arguments.  ``other`` (a material): two-sided heat, the other body gets a thermal column (first cell
+    as the column's, geometric by ``other_ratio``, down to sqrt(alpha2/alpha1) times the column's depth) joined at
+    z = 0 by continuity of temperature and flux; ``beta_T`` is then unused (1: all the slip heat enters at z = 0).
+    ``pressure_melting`` (default True): each column melts at the SCG melt law's T_m(sigma_n)
+    (:meth:`~shockfriction.materials.library.Material.melt_law`) and the melt viscosity takes its pressure factor;
+    False: the ambient T_F and eta_L (version 0.3).  ``step(..., v_far)``: velocity of a held far end.
 
     Diagnostics after a step (n_columns,): ``tau``, ``theta_interface`` (K), ``slip_local`` (V - v(0)),
     ``slip_macro`` (|[V]^n|), ``flux_in`` (W/m^2), ``film_thickness`` (m, cells with no strength left),
@@ -1020,6 +1036,7 @@ class ViscoplasticColumns:
         self.par[P_T_FAR] = math.nan if far_temperature is None else float(far_temperature)
         V_act = pick(liquid_activation_volume, "liquid_viscosity_activation_volume", 0.0)
         self.par[P_V_R] = V_act / R_GAS if pressure_melting else 0.0
+        self.par[P_MAX_NEWTON] = MAX_NEWTON
         self.par[[P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL]] = mech_tol, heat_tol, picard_tol
         self.max_picard = int(max_picard)
         self.scg = m.scg_params()
