@@ -18,7 +18,7 @@ scg_h               inverse_temperature SCG thermal softening of G (thesis h_The
 scg_xi              dimensionless   melt softening exp(-xi T/(T_F - T)) (Ball & Winter)
 eos_c0, eos_s       velocity, -     linear Us = c0 + s up Hugoniot
 eos_gamma0          dimensionless   Grueneisen coefficient (Gamma rho = const)
-scg_melt_a          dimensionless   a of the SCG melt law T_m(eta) (optional; default eos_gamma0, i.e. Gamma rho = const)
+scg_melt_a          dimensionless   a of the SCG melt law T_m(eta) (optional; default eos_gamma0: Gamma rho = const)
 spall_strength      pressure        spall strength p_spall of the cut-off model
 tb_sigma0, tb_lambda pressure, -    Tuler-Butcher threshold and exponent
 tb_K                pressure^lambda x time  Tuler-Butcher damage constant (e.g. "1 GPa^2*us")

@@ -192,7 +192,7 @@ def _cell_pass(v, vt, mask, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n
 
 
 @njit(cache=True)
-def _slope(j, vt, v, d, S, mass, dt, stick, k, v_free, ts, impedance, Zc, a):
+def _slope(j, vt, v, d, S, mass, dt, stick, k, v_free, ts, impedance, Zc):
     """g = sum_i d_i R_i of column j at the trial velocities vt = vn + a d (rows with a Dirichlet condition
     left out): the derivative of the step's convex incremental energy along the Newton direction d."""
     nn = vt.shape[0]
@@ -240,7 +240,8 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     eta_vp, eta_F, E_R = par[P_ETA_VP], par[P_ETA_F], par[P_E_R]
     beta_T, beta_Q, f = par[P_BETA_T], par[P_BETA_Q], par[P_F]
     inertia = par[P_INERTIA] > 0.5
-    held = math.isinf(par[P_Z])  # far end held at v = 0 also with inertia (far_end = "held")
+    held = math.isinf(par[P_Z])  # far end held (at v_far) also with inertia (far_end = "held")
+    imped = inertia and not held  # impedance far end
     th = 1.0  # backward Euler (L-stable: no ringing at c_s dt/dz >> 1); its dissipation is turned into heat
     T_far = par[P_T_FAR]  # nan: insulated far end
     fixed_far = math.isfinite(T_far)
@@ -418,8 +419,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             # overshoots the minimum along d (g(1) > |g(0)|/4), then regula falsi (Illinois) on g
             for j in range(nc):
                 if act[j]:
-                    ls_g0[j] = _slope(j, vn, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], inertia and not held,
-                                      Zc[j], 0.0)
+                    ls_g0[j] = _slope(j, vn, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], imped, Zc[j])
                     ls_a[j] = 1.0
                     ls_lo[j] = 0.0
                     ls_glo[j] = ls_g0[j]
@@ -436,8 +436,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                     lsm[j] = False
                     if not act[j]:
                         continue
-                    g = _slope(j, vt, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], inertia and not held,
-                               Zc[j], ls_a[j])
+                    g = _slope(j, vt, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], imped, Zc[j])
                     if ls == 0:
                         ls_ghi[j] = g
                     if not (ls_g0[j] < 0.0 and g > 0.25 * abs(ls_g0[j])) and not (ls > 0 and g < 0.0
