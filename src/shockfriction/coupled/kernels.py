@@ -151,10 +151,10 @@ def step_increments(friction_work, heat_interface, heat_plastic, plastic_work, m
 
 @njit(cache=True)
 def layer_shear_velocity(x, y, vx, vy, conn, cell_a, cell_b, tx, ty, nx, ny, active, h, v_far):
-    """v_far[j] = -(t . L . n) h: the velocity, relative to node j and in its column's sense (the column's v is
-    -t . (u - u_node)), that the hydro's own velocity field has at depth h below the surface, L = grad u averaged
-    over the cells cell_a[j], cell_b[j] (-1: none) next to the node, n the contact normal (pointing into the
-    slave body), t the tangent.  The gradient of each quadrilateral is the mean gradient of its bilinear field,
+    """v_far[j] = -2 (t . D . n) h: the velocity, relative to node j and in its column's sense (the column's v is
+    -t . (u - u_node)), that the hydro's own shear of the layer gives its far end at depth h, D the symmetric part
+    of L = grad u averaged over the cells cell_a[j], cell_b[j] (-1: none) next to the node (the spin is left out: a
+    rigid rotation does not shear the layer), n the contact normal (pointing into the slave body), t the tangent.  The gradient of each quadrilateral is the mean gradient of its bilinear field,
     du/dx = ((u3 - u1)(y4 - y2) - (u4 - u2)(y3 - y1))/(2A), du/dy = ((u4 - u2)(x3 - x1) - (u3 - u1)(x4 - x2))/(2A),
     2A = (x3 - x1)(y4 - y2) - (x4 - x2)(y3 - y1) (either orientation).  Inactive nodes get 0."""
     for j in range(v_far.shape[0]):
@@ -177,8 +177,10 @@ def layer_shear_velocity(x, y, vx, vy, conn, cell_a, cell_b, tx, ty, nx, ny, act
             duy = ((vx[i4] - vx[i2]) * ax - (vx[i3] - vx[i1]) * bx) / A2
             dvx = ((vy[i3] - vy[i1]) * by - (vy[i4] - vy[i2]) * ay) / A2
             dvy = ((vy[i4] - vy[i2]) * ax - (vy[i3] - vy[i1]) * bx) / A2
-            # t . L . n with L_ik = du_i/dx_k
-            acc += tx[j] * (dux * nx[j] + duy * ny[j]) + ty[j] * (dvx * nx[j] + dvy * ny[j])
+            # 2 t . D . n = t . L . n + n . L . t (L_ik = du_i/dx_k): the layer's engineering shear rate; the spin
+            # (a rigid rotation of the cell) does not shear the layer
+            acc += (tx[j] * (dux * nx[j] + duy * ny[j]) + ty[j] * (dvx * nx[j] + dvy * ny[j])
+                    + nx[j] * (dux * tx[j] + duy * ty[j]) + ny[j] * (dvx * tx[j] + dvy * ty[j]))
             cnt += 1
         if cnt > 0:
             v_far[j] = -(acc / cnt) * h
