@@ -20,7 +20,7 @@ import math
 import numpy as np
 import pytest
 
-from shockfriction.coupled.cone_shot import cone_deck
+from cone_shot import cone_deck
 from shockfriction.hydro.api import prepare
 
 RHO_AL, CL_AL, CS_AL = 2700.0, 6320.0, 3130.0
