@@ -352,6 +352,46 @@ def deposit_friction_heat(work, active, seg, slave_share, slave_cell_before, sla
 
 
 @njit(cache=True)
+def deposit_contact_heat(work, active, seg, slave, gnode, gw, mass, slave_cell_before, slave_cell_after,
+                         weight_before, guide_cell, cell_mass, energy):
+    """The normal impulses' inelastic loss into the cells on both sides; returns the heat put in (J).
+
+    ``work[j]`` is the normal impulses' work over the step (:func:`impulse_work`, >= 0 when
+    dissipated): the kinetic energy the contact step took from pair j.  The slave side receives the
+    share (1/m_g)/(1/m_g + 1/m_G) (the kinetic energy the slave node loses relative to the pair's
+    centre of mass in a perfectly inelastic stop; 1/2 for equal masses), split between its two
+    adjacent slave cells by ``weight_before`` like the friction heat; the guide cell next to segment
+    ``seg[j]`` receives the rest.  The work is deposited with its sign (a step where a pair's
+    impulse did positive work takes that energy from the cells: the books stay closed and the
+    cycle's error counts a net contact gain; docs/theory/contact-energy-and-shear-viscosity.md).
+    """
+    total = 0.0
+    for j in range(work.size):
+        if not active[j] or work[j] == 0.0:
+            continue
+        i_g = slave[j]
+        inv_g = 1.0 / mass[i_g]
+        share = inv_g / _inverse_pair_mass(j, i_g, gnode, gw, mass)
+        q_slave = share * work[j]
+        q_guide = work[j] - q_slave
+        cb = slave_cell_before[j]
+        ca = slave_cell_after[j]
+        wb = weight_before[j]
+        if cb < 0:
+            wb = 0.0
+        if ca < 0:
+            wb = 1.0
+        if cb >= 0 and wb > 0.0:
+            energy[cb] += wb * q_slave / cell_mass[cb]
+        if ca >= 0 and wb < 1.0:
+            energy[ca] += (1.0 - wb) * q_slave / cell_mass[ca]
+        cg = guide_cell[seg[j]]
+        energy[cg] += q_guide / cell_mass[cg]
+        total += work[j]
+    return total
+
+
+@njit(cache=True)
 def side_yield_stress(cell_yield, cell_before, cell_after, weight_before, seg, guide_cells, y_slave, y_guide):
     """Yield stresses of the two sides at each slave node (Tresca laws), in place.
 
