@@ -17,8 +17,9 @@ to the hydrocode's own error:
   to 1e-4 and the loss is visible as contact_heat.
 
 Measured (this code, max over the rows, of the energy scale): cone 500 um Coulomb error 3.3e-4
-(the impact's start-up rows; later ~5e-5), books 3.7e-4, contact work -0.143 J, projection
-+0.059 J neutralised; frictionless 500 um error 3.4e-4, books 3.5e-4, contact work -0.358 J;
+(the impact's start-up rows; later ~5e-5), books 3.5e-4, contact work -0.082 J, projection
++0.059 J neutralised; frictionless 500 um error 3.4e-4, books 3.3e-4, contact work -0.309 J;
+200 / 100 um (slow): error 1.3e-4 / 6.2e-5 with both laws, contact work <= 0 on every row;
 strip contact work -0.089 J/m, error 6.0e-4 (the start-up row right after the impact at t = 0;
 the later rows near 4e-5); head-on strip (50 um gap at t = 0) K + U conserved to 1.4e-4, contact
 heat 0.107 J/m = 2.0 % of the energy.
@@ -122,10 +123,11 @@ def test_cone_shot_contact_dissipates(law):
 @pytest.mark.parametrize("law", ["coulomb", "frictionless"])
 def test_cone_shot_books_close_fine_meshes(law, cell_um):
     """The cone shot at 200 and 100 um: no positive net contact work on any row, and the books close to the
-    hydrocode's error (measured: see the theory page's table)."""
+    hydrocode's error (measured: see the theory page's table; the four runs take ~2.5 min)."""
     sim = prepare(cone_deck(law, 0.3 if law == "coulomb" else 0.0, cell_um=cell_um, end_us=8.0))
     sim.run()
-    h = _check(sim, f"cone {cell_um:g} um {law}", 3e-4, 3e-4)
+    tol = {200.0: 2e-4, 100.0: 1e-4}[cell_um]      # measured 1.3e-4 and 6.2e-5 (both laws; books the same)
+    h = _check(sim, f"cone {cell_um:g} um {law}", tol, tol)
     assert h["projection_work"][-1] > 0.0     # the shifts are there, and neutralised
 
 
