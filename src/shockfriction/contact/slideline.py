@@ -188,6 +188,7 @@ class SlideLine:
         self.total_contact_heat = 0.0     # what of it went into the cells (J)
         self.step_contact_loss = 0.0
         self.step_contact_heat = 0.0
+        self._guide_local = None          # node -> its index along the guide (-1 off it), for the contact heat
         self._win_lam_n = np.zeros(ns)
         self._win_lam_t = np.zeros(ns)
         self._win_slip = np.zeros(ns)
@@ -313,9 +314,14 @@ class SlideLine:
                                       self.slave_cell_before, self.slave_cell_after, w_heat,
                                       self.guide_cells, cell_mass, cell_energy)
             # the contact's inelastic loss is heat in the contacting cells, whatever the friction heat does
+            if self._guide_local is None or self._guide_local.size != mass.size:
+                local = np.full(mass.size, -1, np.int64)
+                local[self.guide_imp[::-1]] = np.arange(self.guide_imp.size)[::-1]   # the first index of a node
+                self._guide_local = local
             self.step_contact_heat = deposit_contact_heat(
-                self.work_n, self.active, self.seg, self.slave_imp, self.gnode, self.gw, mass,
-                self.slave_cell_before, self.slave_cell_after, w_heat, self.guide_cells, cell_mass, cell_energy)
+                self.work_n, self.active, self.slave_imp, self.gnode, self.gw, mass, self.slave_cell_before,
+                self.slave_cell_after, w_heat, self._guide_local, self.guide_cells, self.periodic, cell_mass,
+                cell_energy)
         step_work = float(self.work_t.sum())
         self.step_contact_loss = float(self.work_n.sum())
         self.total_friction_work += step_work
