@@ -7,7 +7,7 @@ Run: PYTHONPATH=src python benchmarks/contact_slideline.py [N_SLAVE] [N_GUIDE]
 The first form prints milliseconds per cycle and slave node-steps per second (after numba compilation).
 ``--search`` prints the time per cycle of the searches alone, global (every segment for every node, the
 former code) and local (the code now), timed interleaved at the same positions: on the cone shot of
-``shockfriction.coupled.cone_shot`` (100 um cells, both slide lines, at every cycle of its first
+``examples/cone_shot.py`` (100 um cells, both slide lines, at every cycle of its first
 ``--cone-cycles`` cycles) and on flat rows of growing size (the scaling).  Both searches must give the
 same pairs; the script checks it at every timed call.
 """
@@ -16,6 +16,7 @@ import argparse
 import statistics
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -78,7 +79,8 @@ def time_searches(line: SlideLine, x, y) -> tuple[float, float]:
 
 
 def search(cone_cycles: int) -> None:
-    from shockfriction.coupled.cone_shot import cone_deck
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))  # examples/cone_shot.py
+    from cone_shot import cone_deck
     from shockfriction.hydro.api import prepare
 
     sim = prepare(cone_deck("coulomb", 0.3, cell_um=100.0, end_us=8.0))

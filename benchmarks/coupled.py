@@ -2,7 +2,7 @@
 
     python benchmarks/coupled.py [--cell-um 100] [--repeat 3] [--threads 1] [--laws coulomb subgrid-...]
 
-Prints, for the cone shot of :func:`shockfriction.coupled.cone_shot.cone_deck` on one mesh:
+Prints, for the cone shot of :func:`examples/cone_shot.py's cone_deck` on one mesh:
 
 * the median wall time of the Coulomb run and of the thermoelastic, thermoelastoplastic and
   viscoplastic runs (mu0 = 0.3, f = 0.7; 500-cell columns under the ~300 slide-line nodes), the
@@ -19,10 +19,14 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import time
+from pathlib import Path
 
-from shockfriction.coupled.cone_shot import cone_deck
-from shockfriction.hydro.api import prepare, run_simulation
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))  # examples/cone_shot.py
+
+from cone_shot import cone_deck  # noqa: E402
+from shockfriction.hydro.api import prepare, run_simulation  # noqa: E402
 
 LAWS = ("coulomb", "subgrid-thermoelastic", "subgrid-thermoelastoplastic")  # add subgrid-viscoplastic with --laws (slow)
 

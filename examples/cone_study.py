@@ -3,7 +3,7 @@
     python examples/cone_study.py [--cell-um 100] [--workers 2] [--models thermoelastic thermoelastoplastic]
                                   [--out out/cone_study]
 
-Runs, on the deck of :func:`shockfriction.coupled.cone_shot.cone_deck`:
+Runs, on the deck of ``cone_deck`` of examples/cone_shot.py:
 
 * the reference sub-grid model (``thermoelastic``) over mu0 in {0.02, 0.05, 0.2, 0.3} x f in {0.3, 0.5, 0.7, 0.9}
   (thesis Figs. 7.11-7.14);
@@ -88,7 +88,7 @@ def interior_mask(d: dict) -> np.ndarray:
 
 def run_one(spec: dict, out: str, cell_um: float, end_us: float, cells: int) -> dict:
     """Run one case; return its metrics and histories (plain lists, picklable)."""
-    from shockfriction.coupled.cone_shot import cone_deck
+    from cone_shot import cone_deck
     from shockfriction.hydro.api import run
     from shockfriction.io.interface import read_interface
     from shockfriction.materials.library import get_material

@@ -1,5 +1,5 @@
 """The cone-in-cylinder shot rebuilt from examples/cone_in_cylinder.geo (gmsh) against the
-block-built deck (examples/cone_in_cylinder.toml, coupled/cone_shot.py): the same nodes, and
+block-built deck (examples/cone_in_cylinder.toml, examples/cone_shot.py): the same nodes, and
 the same free-surface peak velocities (acceptance: 1%; measured 5e-4 at 400 um cells with
 Coulomb friction, 1.1e-5 at 100 um with sub-grid thermoelastic friction)."""
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from shockfriction.coupled.cone_shot import cone_deck
+from cone_shot import cone_deck
 from shockfriction.deck.base import load_deck, validate
 from shockfriction.deck.run import RunDeck
 from shockfriction.hydro.api import run

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from shockfriction.coupled.cone_shot import cone_deck
+from cone_shot import cone_deck
 from shockfriction.hydro.api import run_dict
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from shockfriction.coupled.cone_shot import cone_deck
+from cone_shot import cone_deck
 from shockfriction.hydro.api import prepare, run_simulation
 from shockfriction.io.interface import read_interface
 

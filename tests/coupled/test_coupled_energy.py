@@ -3,7 +3,7 @@ friction impulses remove) equals the heat put into the columns plus the other bo
 (plus, for the thermoelastoplastic model, the cold work and the plastic heat not yet deposited),
 within 1%; the heat stored in the columns, rho c int (T - T0) dz S, equals the heat put in; and
 kinetic + internal + heat in the columns + other share stays equal to the initial
-energy within 0.5% (the hydrocode's own error is a few 1e-4)."""
+energy within 1e-4 (measured 1.7e-5 and 7.5e-7; the contact's inelastic loss is heat in the cells)."""
 
 import numpy as np
 import pytest
@@ -66,9 +66,11 @@ def test_total_energy_with_the_column_heat(audited):
     e = res.energy
     parts = line.friction_model.energy_balance()
     heat = _heat(parts)
-    e0 = e["total"][0]
-    # (energy.csv's measured interface work is the friction work plus the normal impulses' work,
-    # its contact_work, negligible in this planar strip)
+    # the initial energy (the first row's kinetic energy is the leapfrog product across the impact's first step,
+    # which carries that step's whole contact loss while its heat counts half: not the initial energy); the
+    # contact's inelastic loss is in the cells (contact_heat), so kinetic + internal keeps it
+    e0 = res.state.energy.initial * res.state.geometry_factor
+    assert e["column_heat"][-1] == pytest.approx(parts["heat_columns"] - parts["layer_work"], rel=1e-9)
     final = e["total"][-1] + heat - e["boundary_work"][-1]
     rel = abs(final - e0) / e0
     # what is left is the hydrocode's own error (time integration), not the friction bookkeeping
@@ -78,5 +80,5 @@ def test_total_energy_with_the_column_heat(audited):
     print(f"{name}: left after the hydrocode's own error {e['error'][-1]:.3e}: {left:.3e} J/m "
           f"({left / e0:.2e} of the initial energy)")
     assert heat > 0.001 * e0
-    assert rel < 0.005
-    assert left < 2e-4 * e0
+    assert rel < 1e-4              # measured 1.7e-5 / 7.5e-7 (6.5e-5 / 7.5e-5 before the contact heat)
+    assert left < 5e-5 * e0

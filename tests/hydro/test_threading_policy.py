@@ -112,7 +112,7 @@ def test_threads_from_the_deck_and_the_command_line(tmp_path, deck_threads, opti
     """``threads`` in the deck, overridden by ``--threads``; 0 on this small mesh = serial kernels."""
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("one core")
-    from shockfriction.coupled.cone_shot import to_toml
+    from cone_shot import to_toml
 
     deck = tmp_path / "deck.toml"
     deck.write_text(to_toml(_block(6, deck_threads, "0.1 us")))

@@ -30,14 +30,20 @@ class SlideLineInterface:
         self.name = line.name
         # velocities at t^{n-1/2}: the cycle keeps them while the interfaces run
         self._v_old = None
+        self._column_heat = 0.0    # the sub-grid columns' heat at the last step (energy.csv column_heat)
+        self._step = None          # (v^{n-1/2} x and y, dt, dt_pos) between apply and after_interfaces: scratch
         if simulation is not None and hasattr(simulation, "_vx_old"):
             self._v_old = (simulation._vx_old, simulation._vy_old)
+        # the simulation calls after_interfaces once every interface has corrected the velocities
+        self._deferred = bool(getattr(simulation, "calls_after_interfaces", False))
 
     def apply(self, state, dt: float, t: float, cycle: int) -> None:
         """Correct the free velocities of the slide-line nodes by contact and friction impulses.
 
         ``dt`` is the velocity step dt^n (forces -> impulses); the gap is closed over the
-        position step ``state.dt`` = dt^{n+1/2} when the state provides it.
+        position step ``state.dt`` = dt^{n+1/2} when the state provides it.  Inside a
+        :class:`~shockfriction.hydro.cycle.Simulation` the works, heats and records wait for
+        :meth:`after_interfaces` (every slide line has corrected the velocities by then).
         """
         line = self.line
         dt_pos = float(getattr(state, "dt", 0.0) or dt)
@@ -46,19 +52,39 @@ class SlideLineInterface:
         else:    # v^{n-1/2} = v* - dt F/m (exact for nodes without a boundary constraint)
             vx_old = state.vx - dt * state.fx / state.mass
             vy_old = state.vy - dt * state.fy / state.mass
-        work = line.apply(state.x, state.y, state.vx, state.vy, state.mass, dt, t, dt_position=dt_pos,
-                          vx_old=vx_old, vy_old=vy_old,
-                          cell_yield=state.yield_stress,
-                          cell_mass=state.cell_mass if self.heat else None,
-                          cell_energy=state.e if self.heat else None,
-                          shift_x=getattr(state, "shift_x", None), shift_y=getattr(state, "shift_y", None))
-        if not math.isfinite(work):
-            raise SimulationError(f"slide line {line.name!r}: non-finite friction work at cycle {cycle}, "
+        self._step = (vx_old, vy_old, dt, dt_pos)
+        line.apply(state.x, state.y, state.vx, state.vy, state.mass, dt, t, dt_position=dt_pos,
+                   vx_old=vx_old, vy_old=vy_old, cell_yield=state.yield_stress, cell_mass=state.cell_mass,
+                   cell_energy=state.e, shift_x=getattr(state, "shift_x", None),
+                   shift_y=getattr(state, "shift_y", None), deferred=True)
+        if not self._deferred:
+            self.after_interfaces(state, dt, t, cycle)
+
+    def after_interfaces(self, state, dt: float, t: float, cycle: int) -> None:
+        """Once every interface has corrected the velocities (the cycle calls it before the node groups'
+        position shifts): the impulses' works on the final v^{n+1/2}, the heats into the cells, the
+        energy books and the record window."""
+        line = self.line
+        vx_old, vy_old, dt, dt_pos = self._step
+        work = line.finish_step(state.x, state.y, state.vx, state.vy, vx_old, vy_old, state.mass, dt, dt_pos,
+                                state.cell_mass, state.e)
+        if not (math.isfinite(work) and math.isfinite(line.step_contact_loss)):
+            raise SimulationError(f"slide line {line.name!r}: non-finite friction or contact work at cycle {cycle}, "
                                   f"t = {t:.6e} s")
-        state.energy.friction_work += work
-        state.energy.contact_work -= float(line.work_n.sum())     # normal impulses' work on the bodies
+        en = state.energy
+        en.friction_work += work
+        en.contact_work -= line.step_contact_loss     # the normal impulses' work on the bodies (<= 0)
+        en.contact_heat += line.step_contact_heat     # ... their inelastic loss, put into the cells
+        en.interface_heat += line.step_contact_heat
         if self.heat:
-            state.energy.interface_heat += work
+            en.friction_heat += work
+            en.interface_heat += work
+        fm = line.friction_model
+        if fm is not None:    # sub-grid columns: the friction heat they took (out of the hydro's cells)
+            # (viscoplastic columns: less the work the hydro's own shear did on them through z = h, layer_work)
+            q = float(getattr(fm, "heat_columns", 0.0)) - float(getattr(fm, "layer_work", 0.0))
+            en.column_heat += q - self._column_heat
+            self._column_heat = q
         if line.record_due(t + dt_pos):    # the new positions only when a record is taken
             line.maybe_record(t + dt_pos, state.x + dt_pos * state.vx, state.y + dt_pos * state.vy)
 

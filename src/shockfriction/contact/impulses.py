@@ -352,6 +352,72 @@ def deposit_friction_heat(work, active, seg, slave_share, slave_cell_before, sla
 
 
 @njit(cache=True)
+def deposit_contact_heat(work, active, slave, gnode, gw, mass, slave_cell_before, slave_cell_after,
+                         weight_before, guide_local, guide_cells, periodic, cell_mass, energy):
+    """The normal impulses' inelastic loss into the cells on both sides; returns the heat put in (J).
+
+    ``work[j]`` is the normal impulses' work over the step (:func:`impulse_work`, >= 0 when
+    dissipated): the kinetic energy the contact step took from pair j.  The slave side receives the
+    share M_G/(m_g + M_G) (the kinetic energy the slave node loses relative to the pair's centre of
+    mass in a perfectly inelastic stop; 1/2 for equal masses) with M_G = sum_i w_i m_i, the
+    thesis's projection mass (an average of the guide masses: the harmonic 1/m_G = sum w_i^2/m_i
+    of the impulses varies from pair to pair on non-matching meshes, and a uniform contact would
+    heat unevenly), split between its two adjacent slave cells by ``weight_before`` like the
+    friction heat.  The guide side's rest goes to
+    the guide nodes of the projection by their weights ``gw`` (the impulse's own share) and from each
+    guide node half to each of its two guide cells (``guide_local[node]``: its index along the
+    guide, -1 off it; ``guide_cells[k]``: the cell of guide segment k; an end node gives its cell
+    all), so that a uniform contact heats a uniform guide uniformly.  The work is deposited with
+    its sign (a step where a pair's impulse did positive work takes that energy from the cells: the
+    books stay closed and the cycle's error counts a net contact gain;
+    docs/theory/contact-energy-and-shear-viscosity.md).
+    """
+    total = 0.0
+    nseg = guide_cells.size
+    for j in range(work.size):
+        if not active[j] or work[j] == 0.0:
+            continue
+        i_g = slave[j]
+        m_guide = 0.0
+        for k in range(gnode.shape[1]):
+            m_guide += gw[j, k] * mass[gnode[j, k]]
+        q_slave = m_guide / (mass[i_g] + m_guide) * work[j]
+        q_guide = work[j] - q_slave
+        cb = slave_cell_before[j]
+        ca = slave_cell_after[j]
+        wb = weight_before[j]
+        if cb < 0:
+            wb = 0.0
+        if ca < 0:
+            wb = 1.0
+        if cb >= 0 and wb > 0.0:
+            energy[cb] += wb * q_slave / cell_mass[cb]
+        if ca >= 0 and wb < 1.0:
+            energy[ca] += (1.0 - wb) * q_slave / cell_mass[ca]
+        for k in range(gnode.shape[1]):
+            w = gw[j, k]
+            if w == 0.0:
+                continue
+            i = guide_local[gnode[j, k]]
+            before = i - 1
+            after = i
+            if periodic and before < 0:
+                before = nseg - 1
+            if after >= nseg:
+                after = 0 if periodic else -1
+            q = w * q_guide
+            if before >= 0 and after >= 0:
+                energy[guide_cells[before]] += 0.5 * q / cell_mass[guide_cells[before]]
+                energy[guide_cells[after]] += 0.5 * q / cell_mass[guide_cells[after]]
+            elif before >= 0:
+                energy[guide_cells[before]] += q / cell_mass[guide_cells[before]]
+            else:
+                energy[guide_cells[after]] += q / cell_mass[guide_cells[after]]
+        total += work[j]
+    return total
+
+
+@njit(cache=True)
 def side_yield_stress(cell_yield, cell_before, cell_after, weight_before, seg, guide_cells, y_slave, y_guide):
     """Yield stresses of the two sides at each slave node (Tresca laws), in place.
 

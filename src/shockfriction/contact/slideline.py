@@ -24,7 +24,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from shockfriction.contact.impulses import (accumulate_step, deposit_friction_heat, impulse_work, normal_step,
+from shockfriction.contact.impulses import (accumulate_step, deposit_contact_heat, deposit_friction_heat, impulse_work,
+                                            normal_step,
                                             penetration_projection, point_weights, side_yield_stress,
                                             tangential_step)
 from shockfriction.contact.pairing import (contact_geometry, hat_weights, heat_weights_kernel, projection_gap,
@@ -183,7 +184,11 @@ class SlideLine:
         self.cum_slip = np.zeros(ns)
         self.cum_work = np.zeros(ns)
         self.total_friction_work = 0.0
-        self.total_contact_loss = 0.0
+        self.total_contact_loss = 0.0     # the normal impulses' work (J, >= 0 dissipated)
+        self.total_contact_heat = 0.0     # what of it went into the cells (J)
+        self.step_contact_loss = 0.0
+        self.step_contact_heat = 0.0
+        self._guide_local = None          # node -> its index along the guide (-1 off it), for the contact heat
         self._win_lam_n = np.zeros(ns)
         self._win_lam_t = np.zeros(ns)
         self._win_slip = np.zeros(ns)
@@ -240,7 +245,7 @@ class SlideLine:
     # ------------------------------------------------------------------ one cycle
     def apply(self, x, y, vx, vy, mass, dt: float, t: float, *, dt_position: float | None = None,
               vx_old=None, vy_old=None, cell_yield=None, cell_mass=None, cell_energy=None,
-              shift_x=None, shift_y=None) -> float:
+              shift_x=None, shift_y=None, deferred: bool = False) -> float:
         """Correct the free velocities ``vx, vy`` in place; return the friction work of this step (J).
 
         ``dt`` is the velocity step (impulse = force dt) and ``dt_position`` the step that takes
@@ -250,9 +255,15 @@ class SlideLine:
         them the free velocities stand in, and the work is the kinetic energy the correction
         removes from the free state); ``cell_yield`` (Pa) is
         needed by the Tresca laws; ``cell_mass`` and ``cell_energy`` (specific internal energy,
-        J/kg, updated in place) by the heat deposit.  ``shift_x, shift_y`` (node arrays, m):
+        J/kg, updated in place) by the heat deposits: the friction heat (with ``heat_share_slave``)
+        and always the normal impulses' inelastic loss (``step_contact_heat``; without the cell
+        arrays that loss leaves the books).  ``shift_x, shift_y`` (node arrays, m):
         the penetration projection adds its position shifts there (the caller moves x^n by
-        them); without them a penetration is only held, not removed.
+        them); without them a penetration is only held, not removed.  ``deferred``: stop after the
+        corrections and return 0; the caller calls :meth:`finish_step` once every interface of the
+        step has corrected the velocities (the works of the impulses are then those of the final
+        v^{n+1/2}: a node that two slide lines share is counted right, and the lines' works sum to
+        the kinetic energy the corrections took).
         """
         dt_pos = dt if dt_position is None else float(dt_position)
         if vx_old is None or vy_old is None:
@@ -280,19 +291,43 @@ class SlideLine:
             penetration_projection(vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.nx, self.ny, self.gap_point,
                                    self.active, dt_pos, self.max_sweeps, self.rel_tol, shift_x, shift_y,
                                    self.lam_p)
+        if deferred:
+            return 0.0
+        return self.finish_step(x, y, vx, vy, vx_old, vy_old, mass, dt, dt_pos, cell_mass, cell_energy)
+
+    def finish_step(self, x, y, vx, vy, vx_old, vy_old, mass, dt: float, dt_position: float, cell_mass=None,
+                    cell_energy=None) -> float:
+        """The step's works, heats and running sums after the corrections (``vx, vy``: v^{n+1/2}, ``vx_old,
+        vy_old``: v^{n-1/2}, ``x, y``: x^n): the impulses' work -P (w^{n-1/2} + w^{n+1/2})/2, the friction heat
+        (with ``heat_share_slave``) and the normal impulses' inelastic loss into the cells (with the cell
+        arrays), the records' window sums.  Returns the friction work of the step (J)."""
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.nx, self.ny,
                      self.active, self.lam_n, self.work_n)
         impulse_work(vx, vy, vx_old, vy_old, self.slave_imp, self.gnode, self.gw, self.tx, self.ty,
                      self.active, self.lam_t, self.work_t)
-        if self.heat_share_slave is not None and cell_energy is not None:
+        w_heat = self._scratch[7]
+        self.step_contact_heat = 0.0
+        if cell_energy is not None and cell_mass is not None:
             heat_weights_kernel(x, y, self.slave_side, self.periodic, w_heat)
-            deposit_friction_heat(self.work_t, self.active, self.seg, float(self.heat_share_slave),
-                                  self.slave_cell_before, self.slave_cell_after, w_heat,
-                                  self.guide_cells, cell_mass, cell_energy)
+            if self.heat_share_slave is not None:
+                deposit_friction_heat(self.work_t, self.active, self.seg, float(self.heat_share_slave),
+                                      self.slave_cell_before, self.slave_cell_after, w_heat,
+                                      self.guide_cells, cell_mass, cell_energy)
+            # the contact's inelastic loss is heat in the contacting cells, whatever the friction heat does
+            if self._guide_local is None or self._guide_local.size != mass.size:
+                local = np.full(mass.size, -1, np.int64)
+                local[self.guide_imp[::-1]] = np.arange(self.guide_imp.size)[::-1]   # the first index of a node
+                self._guide_local = local
+            self.step_contact_heat = deposit_contact_heat(
+                self.work_n, self.active, self.slave_imp, self.gnode, self.gw, mass, self.slave_cell_before,
+                self.slave_cell_after, w_heat, self._guide_local, self.guide_cells, self.periodic, cell_mass,
+                cell_energy)
         step_work = float(self.work_t.sum())
+        self.step_contact_loss = float(self.work_n.sum())
         self.total_friction_work += step_work
-        self.total_contact_loss += float(self.work_n.sum())
-        accumulate_step(self.work_t, self.slip, self.lam_n, self.lam_t, dt_pos, self.cum_work, self.cum_slip,
+        self.total_contact_loss += self.step_contact_loss
+        self.total_contact_heat += self.step_contact_heat
+        accumulate_step(self.work_t, self.slip, self.lam_n, self.lam_t, dt_position, self.cum_work, self.cum_slip,
                         self._win_lam_n, self._win_lam_t, self._win_slip)
         self._win_time += dt
         return step_work

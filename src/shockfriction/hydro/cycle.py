@@ -13,14 +13,17 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    ``state.vx, state.vy`` by impulses (a node of a group: change it by J/mass,
    ``state.mass`` is the group mass), may add heat to cells' ``state.e`` (and then
    adds the same amount, J per unit depth or per radian, to
-   ``state.energy.interface_heat``) and may report friction work in
-   ``state.energy.friction_work``.  The cycle measures the work of the
+   ``state.energy.interface_heat``) and may report its terms (``friction_work``,
+   ``friction_heat``, ``contact_work``, ``contact_heat``, ``column_heat`` of
+   ``state.energy``).  The cycle measures the work of the
    corrections (``state.energy.interface_work``), re-synchronises node groups
    and re-applies the boundary constraints.  An interface may also add position
    shifts to ``state.shift_x, shift_y`` (penetration projections, mass-weighted so
    that sum m dx = 0); the cycle syncs them over node groups, removes their
-   constrained components, moves x^n by them and books -sum F.dx as
-   ``state.energy.projection_work`` (part of ``contact_work``);
+   constrained components and moves x^n by them, energy-neutrally: the cells they
+   touch take their volume at the shifted x^n as V^n (the shift does no p dV work;
+   e is kept), and -sum F.dx, what it would have made, is booked as
+   ``state.energy.projection_work`` for the record (not in the balance);
 5. positions x^{n+1} = x^n + dt^{n+1/2} v^{n+1/2};
 6. cells: the viscous forces' heat of step 3-4, density, strain rate, stress, viscosity,
    energy, EOS, temperature and the next stable time step, one call
@@ -61,7 +64,8 @@ class Interface(Protocol):
 
 
 ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
-                  "friction_work", "contact_work", "error")
+                  "friction_work", "friction_heat", "column_heat", "contact_work", "contact_heat", "projection_work",
+                  "error")
 
 
 def _wavefront(conn: np.ndarray, n_nodes: int, grouped: bool,
@@ -112,6 +116,9 @@ class Simulation:
         self.state = problem.state
         self.interfaces: list[Interface] = []
         self._after_step: list = []
+        self._after_interfaces: list = []
+        # interfaces built for this simulation may leave their works and heats to after_interfaces
+        self.calls_after_interfaces = True
         self.out_dir = None
         deck = problem.deck
         self.t_end = deck.time.end
@@ -238,13 +245,17 @@ class Simulation:
     def register_interface(self, obj: Interface) -> None:
         """Add an interface (slide line, driver) called every cycle after the free velocities.
 
-        Optional methods of the object: ``after_step(state, dt, t, cycle)`` is called at the end
-        of each cycle (positions and cells at t^{n+1} = t, dt the step just done), ``close()``
+        Optional methods of the object: ``after_interfaces(state, dt, t, cycle)`` is called once every
+        interface of the step has corrected the velocities (node groups synced, before the position
+        shifts: the works of the impulses on the final v^{n+1/2}); ``after_step(state, dt, t, cycle)``
+        is called at the end of each cycle (positions and cells at t^{n+1} = t, dt the step just done), ``close()``
         when the run ends (also on failure); ``simulation.out_dir`` is the output folder of the
         run (None without one), for interface histories."""
         self.interfaces.append(obj)
         if hasattr(obj, "after_step"):
             self._after_step.append(obj)
+        if hasattr(obj, "after_interfaces"):
+            self._after_interfaces.append(obj)
 
     def _fail(self, cell: int, code: int) -> None:
         s = self.state
@@ -304,6 +315,7 @@ class Simulation:
         record = final or s.cycle % self.probe_every == 0
         en = s.energy
         ke = None
+        heats_before = (en.friction_heat, en.contact_heat)
         if self._plain_serial:
             # 1-3 in one call (one thread, no interfaces this step or the last)
             q_before = en.interface_heat
@@ -334,6 +346,8 @@ class Simulation:
                     obj.apply(s, dtv, s.t, s.cycle)
                 if self._grp[0].shape[0] > 1:
                     K.sync_groups(s.vx, s.vy, self._vx_free, self._vy_free, *self._grp)
+                for obj in self._after_interfaces:
+                    obj.after_interfaces(s, dtv, s.t, s.cycle)
                 self._apply_position_shifts()
                 # the interfaces' jumps J = v - v_free; added to _vx_pre (constraint impulses = what the
                 # constraints changed)
@@ -364,8 +378,7 @@ class Simulation:
         q_int = 0.5 * (q_before + en.interface_heat)
         if ke is None:
             ke = K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own)
-        budget = (en.boundary_work, en.interface_work, q_int, en.friction_work, en.contact_work,
-                  en.projection_work)
+        budget = (en.boundary_work, en.interface_work, q_int, *self._books(heats_before))
         if in_update:
             self._pending_row = (ke, ie, q_int - q_before, budget)
             return
@@ -398,14 +411,16 @@ class Simulation:
         if self._cons[0].shape[0]:
             en.boundary_work += wbc
         if record:  # the row at t^n, as _velocity_stage books it (no interface heat this step: q_int = q_before)
-            budget = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work, en.contact_work,
-                      en.projection_work)
+            budget = (en.boundary_work, en.interface_work, en.interface_heat,
+                      *self._books((en.friction_heat, en.contact_heat)))
             self._pending_row = (ke, ie, 0.0, budget)
         self._end_step(dt, dtn, bad, code, qv)
 
     def _apply_position_shifts(self) -> None:
         """Move x^n by the interfaces' position shifts (penetration projections): node groups
-        share them, constrained directions keep none, -sum F.dx goes to the projection work."""
+        share them, constrained directions keep none; energy-neutral (the touched cells' V^n is
+        their volume at the shifted x^n); -sum F.dx, what the shift would have made, is booked as
+        projection work (a measure, not in the balance)."""
         s = self.state
         sx, sy = s.shift_x, s.shift_y
         if not (sx.any() or sy.any()):
@@ -417,9 +432,15 @@ class Simulation:
         # a group's force is the group sum, given to each member: weight by mass_own/mass
         w = -float(np.sum(s.mass_own / s.mass * (s.fx * sx + s.fy * sy)))
         s.energy.projection_work += w
-        s.energy.contact_work += w
         s.x += sx
         s.y += sy
+        # energy-neutral: the cells touching a shifted node take their volume at the shifted x^n as V^n, so the
+        # cell update's -p dV sees only the motion over the step, not the shift (e is kept across the shift)
+        moved = (sx != 0.0) | (sy != 0.0)
+        cells = np.flatnonzero(moved[s.conn].any(axis=1))
+        vol = np.empty(cells.size)
+        K.cell_volumes(s.conn[cells], s.x, s.y, s.axisymmetric, vol)
+        s.volume[cells] = vol
         sx[:] = 0.0
         sy[:] = 0.0
 
@@ -467,23 +488,34 @@ class Simulation:
         s.dt = dtn
 
     # ------------------------------------------------------------------ histories
-    def _record(self, ke: float, ie: float, budget: tuple | None = None) -> None:
-        """One history row at t^n; ``budget`` = (boundary work, interface work, interface heat,
-        friction work, contact work, projection work) at t^n (default: the running totals).
+    def _books(self, heat_before: tuple[float, float]) -> tuple:
+        """The interfaces' reported terms for a history row at t^n: friction work, friction heat, column heat,
+        contact work, contact heat, projection work.  The heats put into cells during this step count half
+        (centred at t^n like ``interface_heat``; ``heat_before``: friction and contact heat before this step's
+        interfaces)."""
+        en = self.state.energy
+        return (en.friction_work, 0.5 * (heat_before[0] + en.friction_heat), en.column_heat, en.contact_work,
+                0.5 * (heat_before[1] + en.contact_heat), en.projection_work)
 
-        error = total - (initial + boundary work + interface work + interface heat + projection
-        work) + max(0, contact work): every exchange is booked, but energy that the contact
-        created (contact work > 0) is error, not an exchange."""
+    def _record(self, ke: float, ie: float, budget: tuple | None = None) -> None:
+        """One history row at t^n; ``budget`` = (boundary work, interface work, interface heat, friction work,
+        friction heat, column heat, contact work, contact heat, projection work) at t^n (default: the running
+        totals).
+
+        error = total - (initial + boundary work + interface work + interface heat) + max(0, contact work):
+        every exchange is booked (the projection is energy-neutral: its column is not in the balance), but
+        energy that the contact created (contact work > 0) is error, not an exchange."""
         s = self.state
         f = s.geometry_factor
         en = s.energy
-        wbc, wint, qint, fw, cw, pw = budget if budget is not None else (
-            en.boundary_work, en.interface_work, en.interface_heat, en.friction_work, en.contact_work,
-            en.projection_work)
+        if budget is None:
+            budget = (en.boundary_work, en.interface_work, en.interface_heat, en.friction_work, en.friction_heat,
+                      en.column_heat, en.contact_work, en.contact_heat, en.projection_work)
+        wbc, wint, qint, fw, fh, colh, cw, ch, pw = budget
         total = ke + ie
-        err = total - (en.initial + wbc + wint + qint + pw) + max(0.0, cw)
-        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * cw,
-                                 f * err))
+        err = total - (en.initial + wbc + wint + qint) + max(0.0, cw)
+        self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * fh,
+                                 f * colh, f * cw, f * ch, f * pw, f * err))
         if self._getters:
             self.probe_rows.append((s.t, *[float(g()) for g in self._getters]))
         for obs in self.observers:

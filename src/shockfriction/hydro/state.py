@@ -40,16 +40,22 @@ class EnergyBudget:
     cycle (the kinetic energy that the constraints' and the interface corrections'
     velocity jumps add; <= 0 for friction and inelastic contact);
     ``interface_heat`` is what interface objects put into cells' internal energy
-    (they add it here themselves); friction work is added by interfaces to
-    ``friction_work`` for reporting (it is part of ``interface_work``).
+    (they add it here themselves).  The interfaces also report, for the books
+    (docs/theory/contact-energy-and-shear-viscosity.md):
 
-    ``contact_work`` is the work done on the bodies by the contact (normal) side of the
-    interfaces: the normal impulses' work (part of ``interface_work``, reported by the
-    slide lines) plus ``projection_work``, the internal energy -sum F.dx that the
-    penetration projections' position shifts dx make (booked by the cycle, not part of
-    ``interface_work``).  Contact may only dissipate: the cycle's energy error counts
-    max(0, contact_work), the energy the contact created, as error
-    (docs/theory/contact-energy-and-shear-viscosity.md).
+    * ``friction_work``: the friction impulses' work (>= 0 dissipated; part of
+      ``-interface_work``) and ``friction_heat``, what of it went into the cells (part of
+      ``interface_heat``; the rest left the hydrocode: sub-grid columns, or ``heat = "none"``);
+    * ``column_heat``: the heat the sub-grid columns took (part of friction_work - friction_heat);
+    * ``contact_work``: the normal impulses' work on the bodies (<= 0: the contact only
+      dissipates; part of ``interface_work``) and ``contact_heat``, its inelastic loss put
+      into the contacting cells (part of ``interface_heat``; equal to -contact_work when
+      every slide line has the cells' arrays);
+    * ``projection_work``: -sum F.dx of the penetration projections' position shifts, the
+      internal energy they would have made; neutralised (the cells keep their internal
+      energy across a shift), so it is not in the balance: a measure of the shifts' size.
+
+    The cycle's energy error counts max(0, contact_work), energy the contact created, as error.
     """
 
     initial: float = 0.0
@@ -57,7 +63,10 @@ class EnergyBudget:
     interface_work: float = 0.0
     interface_heat: float = 0.0
     friction_work: float = 0.0
+    friction_heat: float = 0.0
+    column_heat: float = 0.0
     contact_work: float = 0.0
+    contact_heat: float = 0.0
     projection_work: float = 0.0
 
 

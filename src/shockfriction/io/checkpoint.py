@@ -36,7 +36,8 @@ import numpy as np
 
 from shockfriction.errors import DeckError
 
-FORMAT = 2  # 2: sub-grid column state stored column-innermost (0.3.0); a format-1 checkpoint is refused
+FORMAT = 3  # 3: energy rows with the contact books (friction_heat, column_heat, contact_heat); 2: sub-grid column
+# state stored column-innermost (0.3.0); a checkpoint of another format is refused
 CHECKPOINT = "checkpoint.h5"
 # the objects a checkpoint walks into, by class name and attribute
 CHILDREN = {

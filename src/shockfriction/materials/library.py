@@ -39,7 +39,7 @@ from importlib import resources
 
 import numpy as np
 
-from shockfriction.deck.base import read_toml
+from shockfriction.tomlio import read_toml
 from shockfriction.errors import DeckError
 from shockfriction.units import UnitError, pressure_power_time_to_si, to_si
 
