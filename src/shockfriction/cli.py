@@ -1,10 +1,9 @@
 """The ``shockfriction`` command line (typer).
 
 Each command lives in its own module of :mod:`shockfriction.commands` and
-registers itself through ``register(app)``.  Exit status (docs/cli.md): 0 done,
-1 finished with failures (a sweep with failed runs, a fit that did not converge),
-2 deck or usage error, 3 run failure, 130 interrupted; each error is one message,
-never a traceback.
+registers itself through ``register(app)``.  Exit status: the table
+:data:`shockfriction.errors.EXIT_STATUS` (docs/cli.md); each error is one message on
+stderr, never a traceback; results go to stdout, progress and logs to stderr.
 """
 
 from __future__ import annotations
@@ -63,13 +62,17 @@ def main(argv: list[str] | None = None) -> None:
     try:
         app(args=argv, prog_name="shockfriction")
     except DeckError as exc:
-        err.print(f"[bold red]deck error[/]\n{escape(str(exc))}", highlight=False, soft_wrap=True)
+        text = str(exc)
+        sep = "\n" if "\n" in text else ": "  # one error: one line; several: one line each
+        err.print(f"[bold red]deck error[/]{sep}{escape(text)}", highlight=False, soft_wrap=True)
         sys.exit(2)
     except UsageError as exc:
         err.print(f"[bold red]usage error[/]: {escape(str(exc))}", highlight=False, soft_wrap=True)
         sys.exit(2)
     except SimulationError as exc:
-        err.print(f"[bold red]run failed[/]\n{escape(str(exc))}", highlight=False, soft_wrap=True)
+        text = str(exc)
+        sep = "\n" if "\n" in text else ": "
+        err.print(f"[bold red]run failed[/]{sep}{escape(text)}", highlight=False, soft_wrap=True)
         sys.exit(3)
     except KeyboardInterrupt:
         err.print("[yellow]interrupted[/]", highlight=False)

@@ -69,8 +69,11 @@ def open_executor(scheduler: str | None = None, workers: int | None = None,
     if workers is not None and workers < 1:
         raise DeckError(f"--workers = {workers}: expected a positive number of workers")
     if scheduler is None:
+        from shockfriction.sweep.worker import init_worker
+
         pool = ProcessPoolExecutor(max_workers=workers or usable_cores(),
-                                   mp_context=multiprocessing.get_context("spawn"))
+                                   mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=init_worker, initargs=(os.getpid(),))
         previous = _sigterm_interrupts()
         try:
             yield pool
