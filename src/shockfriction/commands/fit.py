@@ -69,6 +69,9 @@ def register(app: typer.Typer) -> None:
             con.print(f"output folder {out_dir}: {out_dir_state(out_dir, force=force)}; nothing run",
                       highlight=False)
             return
+        from shockfriction.sweep.fitspec import load_fit
+
+        load_fit(fit_file, trust)  # the fit file is validated before the folder is looked at
         prepare_out_dir(out_dir, force=force)
         res = run_fit(fit_file, scheduler, workers, on_evaluation=None if quiet else report, trust=trust)
         paths = write_outputs(res, out_dir, force=True)

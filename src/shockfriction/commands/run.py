@@ -35,9 +35,9 @@ def register(app: typer.Typer) -> None:
         (exit status 143 or 130); continue with --restart."""
         from rich.console import Console
 
-        from shockfriction.hydro.api import load, prepare, run_simulation
+        from shockfriction.deck.base import load_deck
+        from shockfriction.deck.run import RunDeck
         from shockfriction.io.outdir import check_out_path, check_threads, out_dir_state, prepare_out_dir
-        from shockfriction.io.session import RunInterrupted
         from shockfriction.log import configure_logging, verbosity
         from shockfriction.safety import Trust
 
@@ -45,10 +45,10 @@ def register(app: typer.Typer) -> None:
         check_threads(threads)
         check_out_path(out)
         trust = Trust(allow_outside=allow_outside, allow_geo=allow_geo)
+        model = load_deck(deck, RunDeck, trust)  # before the hydrocode is imported: a bad deck fails fast
         if dry_run:
             from shockfriction.hydro.setup import build_problem
 
-            model = load(deck, trust=trust)
             problem = build_problem(model, str(deck))
             mesh = problem.mesh
             con = Console()
@@ -65,10 +65,13 @@ def register(app: typer.Typer) -> None:
             con.print(f"output folder {out}: {out_dir_state(out, force=force, restart=restart)}; nothing run",
                       highlight=False)
             return
-        sim = prepare(deck, threads=threads, trust=trust)
+        from shockfriction.hydro.api import prepare, run_simulation
+        from shockfriction.io.session import RunInterrupted
+
+        sim = prepare(model, threads=threads, source=str(deck))
         prepare_out_dir(out, force=force, restart=restart)
         try:
-            res = run_simulation(sim, out, progress=not quiet, restart=restart, signals=True)
+            res = run_simulation(sim, out, progress=not quiet, restart=restart, signals=True, force=force)
         except RunInterrupted as exc:
             Console(stderr=True).print(f"[yellow]{exc}; outputs and checkpoint written in {out} "
                                        "(continue with --restart)[/]", highlight=False)

@@ -43,7 +43,7 @@ def register(app: typer.Typer) -> None:
         from shockfriction.io.outdir import check_out_path, check_workers
         from shockfriction.log import configure_logging, verbosity
         from shockfriction.safety import Trust
-        from shockfriction.sweep.engine import run_sweep
+        from shockfriction.sweep.spec import load_sweep
 
         configure_logging(verbosity(verbose, quiet))
         check_workers(workers)
@@ -51,6 +51,9 @@ def register(app: typer.Typer) -> None:
         console = Console()
         errors = Console(stderr=True)
         trust = Trust(allow_outside=allow_outside, allow_python=allow_python, allow_geo=allow_geo)
+        load_sweep(sweep_file, trust)  # the sweep file's own checks (sizes included) before the engine is imported
+        from shockfriction.sweep.engine import run_sweep
+
         if dry_run:
             _show_plan(sweep_file, out, retry_failed, trust, force)
             return

@@ -108,9 +108,11 @@ def load(deck_or_path: RunDeck | str | Path | dict, source: str | None = None,
     return load_deck(deck_or_path, RunDeck, trust)
 
 
-def prepare(deck_or_path, threads: int | None = None, interfaces=None, trust=None) -> Simulation:
-    """Build the problem and the simulation (slide lines of the deck registered)."""
-    source = str(deck_or_path) if isinstance(deck_or_path, (str, Path)) else "deck"
+def prepare(deck_or_path, threads: int | None = None, interfaces=None, trust=None,
+            source: str | None = None) -> Simulation:
+    """Build the problem and the simulation (slide lines of the deck registered); ``source``: the
+    deck's name in messages (default: its path, or "deck")."""
+    source = source or (str(deck_or_path) if isinstance(deck_or_path, (str, Path)) else "deck")
     deck = load(deck_or_path, trust=trust)
     problem = build_problem(deck, source)
     sim = Simulation(problem, interfaces=interfaces, threads=threads)

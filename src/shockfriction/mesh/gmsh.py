@@ -69,8 +69,9 @@ try:
         x0, y0, _, x1, y1, _ = gmsh.model.getBoundingBox(dim, tag)
         lengths = []
         for _, c in gmsh.model.getBoundary([(dim, tag)], oriented=False):
-            _, xyz, _ = gmsh.model.mesh.getNodes(1, abs(c), includeBoundary=True)
-            p = [xyz[k:k + 2] for k in range(0, len(xyz), 3)]
+            _, xyz, u = gmsh.model.mesh.getNodes(1, abs(c), includeBoundary=True)
+            order = sorted(range(len(u)), key=lambda k: u[k])  # along the curve (end nodes come last)
+            p = [(xyz[3 * k], xyz[3 * k + 1]) for k in order]
             lengths += [math.dist(a, b) for a, b in zip(p, p[1:])]
         lengths = [h for h in lengths if h > 0.0]
         if lengths:
@@ -123,8 +124,8 @@ def _mesh_geo(path: Path, parameters: dict[str, float], folder: Path, max_cells:
     lines = [ln for ln in res.stdout.splitlines() if ln.startswith("{")]
     info = json.loads(lines[-1]) if lines else {}
     if "too_many" in info:
-        what = "an estimated" if info["estimated"] else ""
-        raise MeshFileError(f"{path}: gmsh would make {what} {info['too_many']:.3g} elements: expected at most "
+        what = "an estimated " if info["estimated"] else ""
+        raise MeshFileError(f"{path}: gmsh would make {what}{info['too_many']:.3g} elements: expected at most "
                             f"max_cells = {max_cells:,} (raise max_cells in the run deck if it is meant)")
     if res.returncode != 0 or not out.is_file():
         why = info.get("error") or (res.stderr.strip().splitlines() or [f"exit status {res.returncode}"])[-1]
