@@ -179,7 +179,8 @@ def test_a_subgrid_history_that_goes_non_finite_exits_3_naming_where(tmp_path, c
     assert rows[0].startswith("t [s],") and "nan" not in " ".join(r.split(",")[1] for r in rows[1:])
 
 
-def test_a_sigkilled_sweep_leaves_no_process_behind(tmp_path):
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM], ids=["SIGKILL", "SIGTERM"])
+def test_a_killed_sweep_leaves_no_process_and_no_scratch_folder_behind(tmp_path, sig):
     psutil = pytest.importorskip("psutil")
     mods = tmp_path / "mods"
     mods.mkdir()
@@ -205,8 +206,9 @@ def test_a_sigkilled_sweep_leaves_no_process_behind(tmp_path):
     kids = parent.children(recursive=True)
     assert len(list(scratch.glob("sf-*/busy"))) == 2, "the workers did not start their runs"
     assert len(kids) >= 2
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait(timeout=10)
+    os.kill(proc.pid, sig)
+    proc.wait(timeout=30)
+    assert proc.returncode == (-signal.SIGKILL if sig == signal.SIGKILL else 130)
     time.sleep(5.0)
     alive = [p for p in kids if p.is_running() and p.status() != psutil.STATUS_ZOMBIE]
     for p in alive:  # clean up before failing

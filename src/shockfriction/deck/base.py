@@ -29,7 +29,10 @@ class DeckModel(BaseModel):
         """A boolean where the field takes no boolean (``bounds = [0.2, true]``, ``cfl = true``) is an
         error: pydantic's lax mode would read it as 1 or 0."""
         field = cls.model_fields.get(info.field_name or "")
-        if field is None or _admits_bool(field.annotation) or not _holds_bool(value):
+        if field is None or _admits_bool(field.annotation):
+            return value
+        in_table = isinstance(value, dict) and _is_table(field.annotation) and any(map(_holds_bool, value.values()))
+        if not (_holds_bool(value) or in_table):
             return value
         raise ValueError("expected a number (or a string with its unit), not a boolean (true/false)")
 
@@ -49,6 +52,14 @@ def _admits_bool(annotation: Any, depth: int = 0) -> bool:
     if origin in (dict,) and len(args) == 2:
         return _admits_bool(args[1], depth + 1)
     return any(_admits_bool(a, depth + 1) for a in args if a is not type(None) and a is not Ellipsis)
+
+
+def _is_table(annotation: Any, depth: int = 0) -> bool:
+    """True if ``annotation`` is a ``dict[...]`` (possibly optional or annotated), not a model."""
+    origin = typing.get_origin(annotation)
+    if origin is dict:
+        return True
+    return depth < 4 and any(_is_table(a, depth + 1) for a in typing.get_args(annotation))
 
 
 def _holds_bool(value: Any, depth: int = 0) -> bool:
