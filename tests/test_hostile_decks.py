@@ -201,10 +201,10 @@ def test_a_killed_sweep_leaves_no_process_and_no_scratch_folder_behind(tmp_path,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
     parent = psutil.Process(proc.pid)
     deadline = time.monotonic() + 90
-    while time.monotonic() < deadline and len(list(scratch.glob("sf-*/busy"))) < 2:
+    while time.monotonic() < deadline and len(list(scratch.rglob("busy"))) < 2:
         time.sleep(0.2)
     kids = parent.children(recursive=True)
-    assert len(list(scratch.glob("sf-*/busy"))) == 2, "the workers did not start their runs"
+    assert len(list(scratch.rglob("busy"))) == 2, "the workers did not start their runs"
     assert len(kids) >= 2
     os.kill(proc.pid, sig)
     proc.wait(timeout=30)
@@ -216,3 +216,26 @@ def test_a_killed_sweep_leaves_no_process_and_no_scratch_folder_behind(tmp_path,
     assert not alive, [p.cmdline()[:3] for p in alive]
     out, err = proc.communicate(timeout=5)   # nobody holds the pipes open: this returns at once
     assert list(scratch.iterdir()) == [], list(scratch.iterdir())
+
+
+def test_a_worker_that_dies_leaves_no_scratch_folder(tmp_path):
+    mods = tmp_path / "mods"
+    mods.mkdir()
+    (mods / "sf_crashy.py").write_text(
+        "import os\n"
+        "def model(deck, workdir):\n"
+        "    (workdir / 'busy').write_text('x')\n"
+        "    if float(deck['a']) > 1.5:\n"
+        "        os._exit(1)  # as a segfault or an OOM kill would\n"
+        "    return {'records': {}, 'summary': {}}\n")
+    (tmp_path / "sweep.toml").write_text('model = "sf_crashy:model"\n[[parameter]]\npath = "a"\nvalues = [1.0, 2.0]\n')
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    env = dict(os.environ, TMPDIR=str(scratch),
+               PYTHONPATH=os.pathsep.join([str(mods), str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]))
+    res = subprocess.run([sys.executable, "-m", "shockfriction", "sweep", str(tmp_path / "sweep.toml"),
+                          "--out", str(tmp_path / "o"), "--workers", "1", "--quiet", "--allow-python"],
+                         capture_output=True, text=True, env=env, timeout=120)
+    assert res.returncode == 1, res.stderr          # runs left pending with the dead worker
+    assert "pending" in res.stdout
+    assert list(scratch.iterdir()) == [], list(scratch.rglob("*"))

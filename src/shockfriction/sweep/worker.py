@@ -29,7 +29,7 @@ from shockfriction.sweep.keep import select
 from shockfriction.sweep.runners import run_deck
 
 
-_SCRATCH: dict[str, str | None] = {"path": None}
+_SCRATCH: dict[str, str | None] = {"path": None, "root": None}
 #: seconds between two looks at the parent process
 PARENT_POLL_S = 0.5
 
@@ -39,12 +39,21 @@ def _leave(signum: int = signal.SIGTERM, frame=None) -> None:
     path = _SCRATCH["path"]
     if path:
         shutil.rmtree(path, ignore_errors=True)
+    if _SCRATCH["root"]:  # the pool's folder: the last worker out removes it (the parent may be dead)
+        try:
+            os.rmdir(_SCRATCH["root"])
+        except OSError:
+            pass
     os._exit(128 + int(signum))
 
 
-def init_worker(parent_pid: int) -> None:
+def init_worker(parent_pid: int, root: str | None = None) -> None:
     """Initializer of a local pool worker: SIGTERM removes the scratch folder and ends the worker; the
-    worker ends when ``parent_pid`` (the sweep) dies, whatever killed it."""
+    worker ends when ``parent_pid`` (the sweep) dies, whatever killed it.  ``root``: the pool's folder,
+    where the worker's temporary files and scratch folders go (the pool removes it when it ends)."""
+    if root:
+        _SCRATCH["root"] = root
+        tempfile.tempdir = root
     signal.signal(signal.SIGTERM, _leave)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the sweep, which tears the pool down
     try:
