@@ -1,10 +1,9 @@
 """The ``shockfriction`` command line (typer).
 
 Each command lives in its own module of :mod:`shockfriction.commands` and
-registers itself through ``register(app)``.  Exit status (docs/cli.md): 0 done,
-1 finished with failures (a sweep with failed runs, a fit that did not converge),
-2 deck or usage error, 3 run failure, 130 interrupted; each error is one message,
-never a traceback.
+registers itself through ``register(app)``.  Exit status: the table
+:data:`shockfriction.errors.EXIT_STATUS` (docs/cli.md); each error is one message on
+stderr, never a traceback; results go to stdout, progress and logs to stderr.
 """
 
 from __future__ import annotations
@@ -57,19 +56,41 @@ for _mod in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name
     importlib.import_module(f"{commands.__name__}.{_mod.name}").register(app)
 
 
+class Terminated(SystemExit):
+    """SIGTERM outside the places that handle it themselves (a run's cycle, a sweep's pool): exit 143
+    through the ``finally`` blocks, so that scratch folders (gmsh meshing) are removed."""
+
+
+def _terminated(signum, frame) -> None:
+    raise Terminated(128 + signum)
+
+
 def main(argv: list[str] | None = None) -> None:
     """Entry point of the console script; ``argv`` is for tests."""
+    import signal
+    import threading
+
     err = Console(stderr=True)
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _terminated)
     try:
         app(args=argv, prog_name="shockfriction")
+    except Terminated:
+        err.print("[yellow]stopped by SIGTERM[/]", highlight=False)
+        sys.exit(143)
     except DeckError as exc:
-        err.print(f"[bold red]deck error[/]\n{escape(str(exc))}", highlight=False, soft_wrap=True)
+        text = str(exc)
+        sep = "\n" if "\n" in text else ": "  # one error: one line; several: one line each
+        err.print(f"[bold red]deck error[/]{sep}{escape(text)}", highlight=False, soft_wrap=True)
         sys.exit(2)
     except UsageError as exc:
         err.print(f"[bold red]usage error[/]: {escape(str(exc))}", highlight=False, soft_wrap=True)
         sys.exit(2)
     except SimulationError as exc:
-        err.print(f"[bold red]run failed[/]\n{escape(str(exc))}", highlight=False, soft_wrap=True)
+        text = str(exc)
+        sep = "\n" if "\n" in text else ": "
+        err.print(f"[bold red]run failed[/]{sep}{escape(text)}", highlight=False, soft_wrap=True)
         sys.exit(3)
     except KeyboardInterrupt:
         err.print("[yellow]interrupted[/]", highlight=False)
@@ -81,6 +102,9 @@ def main(argv: list[str] | None = None) -> None:
         err.print(f"[bold red]run failed[/]\ninternal error {type(exc).__name__}: {escape(text)} "
                   "(please report it; --debug shows the traceback)", highlight=False, soft_wrap=True)
         sys.exit(3)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -8,7 +8,13 @@ command line refuses both unless asked (``--allow-outside``, ``--allow-python``)
 * a file reference is resolved against the deck's folder (symbolic links followed) and
   must stay inside it;
 * a Python model is imported only when a run executes, never while validating
-  (``--dry-run`` imports nothing).
+  (``--dry-run`` imports nothing);
+* a gmsh ``.geo`` file is a program (``SystemCall``, ``Printf > file``, ``Save``, ``Include``...):
+  it is meshed only with ``--allow-geo``, in a child process with a memory cap; a ``.msh`` file is
+  data and stays free (``--allow-outside`` still applies to both).
+
+Sizes are checked before anything is read whole or allocated (:mod:`shockfriction.deck.base`
+for deck files, ``max_cells`` of a run deck, ``max_runs`` of a sweep file, the gmsh caps here).
 
 The Python API (``run_sweep``, ``fit``, ...) is called by code that can already run
 code and read files; its default is :data:`TRUSTED`.  Pass ``Trust()`` to apply the
@@ -29,24 +35,50 @@ class Trust:
 
     allow_outside: bool = False
     allow_python: bool = False
+    allow_geo: bool = False
 
 
 STRICT = Trust()
-TRUSTED = Trust(allow_outside=True, allow_python=True)
+TRUSTED = Trust(allow_outside=True, allow_python=True, allow_geo=True)
+
+#: default largest number of cells of a run (``max_cells`` in the run deck raises it): ~300 bytes a
+#: cell of state arrays, so 1.5 GB
+MAX_CELLS = 5_000_000
+#: default largest number of runs of a sweep (``max_runs`` in the sweep file raises it)
+MAX_RUNS = 100_000
+
+#: address-space cap (bytes) of the child process that meshes a .geo file
+GMSH_MEMORY_BYTES = 2 << 30
+#: wall-clock cap (s) of that child process
+GMSH_SECONDS = 300.0
+
+
+def check_geo(ref: str, field: str, source: str, trust: Trust = STRICT) -> None:
+    """DeckError unless ``.geo`` scripts may be meshed (``--allow-geo``)."""
+    if str(ref).lower().endswith(".geo") and not trust.allow_geo:
+        raise DeckError(f"{source}: {field} = {ref!r}: a .geo file is a gmsh script that can run commands and "
+                        "write files: expected a .msh mesh, or --allow-geo on the command line to mesh it")
 
 
 def resolve_inside(here: Path, ref: str, field: str, source: str, trust: Trust = STRICT) -> Path:
     """``here / ref``, refused (DeckError naming ``field``) if it leaves ``here`` without ``allow_outside``."""
-    path = Path(here) / ref
+    path = Path(here) / Path(ref).expanduser()
     if trust.allow_outside:
         return path
+    message = outside_message(here, ref)
+    if message:
+        raise DeckError(f"{source}: {field} = {ref!r}: {message}")
+    return path
+
+
+def outside_message(here: Path | str, ref: str) -> str | None:
+    """None if ``here / ref`` (symbolic links followed) stays inside ``here``, else what was expected."""
     root = Path(here).resolve()
     try:
-        path.resolve().relative_to(root)
+        (Path(here) / Path(ref).expanduser()).resolve().relative_to(root)
     except ValueError:
-        raise DeckError(f"{source}: {field} = {ref!r}: expected a file inside the deck's folder {root} "
-                        "(a file elsewhere needs --allow-outside)") from None
-    return path
+        return f"expected a file inside the deck's folder {root} (a file elsewhere needs --allow-outside)"
+    return None
 
 
 def check_python(model: str | None, field: str, source: str, trust: Trust = STRICT) -> None:

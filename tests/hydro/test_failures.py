@@ -55,7 +55,7 @@ def test_tangled_mesh_raises_simulation_error_with_place_and_time(make_strip, tm
     assert "body 'target'" in msg and "cell (0, 4)" in msg and "cycle 0" in msg and "t = 0.0" in msg
     # what was written is readable
     header = (tmp_path / "out" / "energy.csv").read_text().splitlines()[0]
-    assert header.startswith("t_s,kinetic_J/m")
+    assert header.startswith("t [s],kinetic [J/m]")
     assert (tmp_path / "out" / "summary.json").exists()
     rows = np.genfromtxt(tmp_path / "out" / "probes.csv", delimiter=",", skip_header=1)
     assert np.all(np.isfinite(rows))

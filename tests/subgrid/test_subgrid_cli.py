@@ -179,7 +179,7 @@ def test_viscoplastic_example_runs_from_the_command_line(tmp_path, capsys):
     deck.write_text(text)
     assert run(["subgrid", str(deck), "--out", str(tmp_path / "o"), "--no-plots"]) in (0, None)
     header, data = read(tmp_path / "o" / "history.csv")
-    assert header[-2:] == ["film_thickness_m", "substeps"] and data.shape[0] == 250
+    assert header[-2:] == ["film_thickness [m]", "substeps"] and data.shape[0] == 250
     assert np.all(np.isfinite(data))
     t, tau, film = data[:, 0], data[:, 2], data[:, -2]
     assert np.all(data[:, -1] >= 1)

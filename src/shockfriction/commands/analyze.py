@@ -8,6 +8,8 @@ from typing import Optional
 
 import typer
 
+from shockfriction.cli_options import QUIET, VERBOSE
+
 UNITS = {
     "velocity": "m/s", "pressure": "Pa", "time": "s", "temperature": "K",
     "scales.time": "s", "scales.stress": "Pa", "scales.temperature": "K", "scales.density": "kg/m^3",
@@ -110,7 +112,9 @@ def _print_tables(result) -> None:
 
 
 def register(app: typer.Typer) -> None:
-    @app.command("analyze")
+    from shockfriction.errors import EXIT_CODES
+
+    @app.command("analyze", epilog=EXIT_CODES)
     def analyze(
         pair: str = typer.Option(..., "--pair", help="two library materials, 'FIRST:SECOND'"),
         velocity: str = typer.Option(..., "--velocity", help="impact/sliding velocity V0, e.g. '250 m/s'"),
@@ -119,11 +123,23 @@ def register(app: typer.Typer) -> None:
         temperature: str = typer.Option("300 K", "--temperature", help="initial temperature Theta0"),
         threshold: float = typer.Option(0.01, "--threshold", help="a term drops when its number is <= this"),
         as_json: bool = typer.Option(False, "--json", help="print JSON (SI values) instead of tables"),
-        plot: Optional[str] = typer.Option(None, "--plot", help="write the stability-limit figure to this PNG"),
+        plot: Optional[str] = typer.Option(None, "--plot", help="write the stability-limit figure to this PNG "
+                                           "(an explicit path, e.g. out/stability.png; an existing file needs "
+                                           "--force)"),
+        force: bool = typer.Option(False, "--force", "-f", help="replace an existing --plot file"),
+        verbose: int = VERBOSE,
+        quiet: bool = QUIET,
     ) -> None:
-        """Dimensionless numbers, droppable terms, layer thicknesses and the stability limit (thesis ch. 5-6)."""
+        """Dimensionless numbers, droppable terms, layer thicknesses and the stability limit (thesis ch. 5-6).
+
+        Tables (or --json) go to stdout; the figure goes only where --plot says, and its path is printed."""
+        from pathlib import Path
+
         from shockfriction.analysis.dimensionless import analyze_pair
-        from shockfriction.errors import DeckError
+        from shockfriction.errors import DeckError, UsageError
+        from shockfriction.log import configure_logging, verbosity
+
+        configure_logging(verbosity(verbose, quiet))
 
         first, second = _materials(pair)
         v = _parse(velocity, "velocity", "--velocity")
@@ -138,17 +154,24 @@ def register(app: typer.Typer) -> None:
             raise DeckError(f"--threshold = {threshold!r}: expected a positive number such as 0.01")
         if plot is not None and not plot.lower().endswith(".png"):
             raise DeckError(f"--plot = {plot!r}: expected a file name ending in .png")
+        if plot is not None:
+            target = Path(plot).expanduser()
+            if target.is_dir():
+                raise UsageError(f"--plot = {plot!r} is a folder: expected a file name ending in .png")
+            if target.exists() and not force:
+                raise UsageError(f"--plot = {plot!r} exists: use --force to replace it, or choose a new file")
 
         result = analyze_pair(first, second, v, p, t, theta, threshold)
         if plot is not None:
             from shockfriction.plot.stability import plot_stability_limit
 
-            plot_stability_limit((first, second), plot, marker=(theta, abs(p)))
+            target.parent.mkdir(parents=True, exist_ok=True)
+            plot_stability_limit((first, second), str(target), marker=(theta, abs(p)))
         if as_json:
             out = _finite(result.to_dict())
             out["units"] = UNITS
             typer.echo(json.dumps(out, indent=2))
         else:
             _print_tables(result)
-            if plot is not None:
-                typer.echo(f"stability figure written to {plot}")
+        if plot is not None:  # stdout holds the JSON with --json: the path then goes to stderr
+            typer.echo(f"stability figure written to {target.resolve()}", err=as_json)

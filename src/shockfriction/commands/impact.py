@@ -9,18 +9,28 @@ from __future__ import annotations
 
 import typer
 
+from shockfriction.cli_options import QUIET, VERBOSE
+
 
 def register(app: typer.Typer) -> None:
-    @app.command("impact")
+    from shockfriction.errors import EXIT_CODES
+
+    @app.command("impact", epilog=EXIT_CODES)
     def impact(
         flyer: str = typer.Argument(..., help="flyer material (library name, see `shockfriction materials`)"),
         target: str = typer.Argument(..., help="target material"),
-        velocity: str = typer.Option(..., "--velocity", "-v", help="impact velocity with its unit, e.g. '250 m/s'"),
+        velocity: str = typer.Option(..., "--velocity", help="impact velocity with its unit, e.g. '250 m/s' "
+                                     "(no short form: -v is --verbose, as in every command)"),
         strength: str = typer.Option("epp", "--strength", "-s",
                                      help="'none', 'epp' (perfect plasticity at the material's Y0, G0) or "
                                           "'scg' (the library's SCG yield at the shocked state, 300 K)"),
+        verbose: int = VERBOSE,
+        quiet: bool = QUIET,
     ) -> None:
         """Print the interface state of a plate impact and the HEL / plastic waves of both plates."""
+        from shockfriction.log import configure_logging, verbosity
+
+        configure_logging(verbosity(verbose, quiet))
         from rich.console import Console
         from rich.table import Table
 

@@ -8,11 +8,19 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from shockfriction.cli_options import QUIET, VERBOSE
+
 
 def register(app: typer.Typer) -> None:
-    @app.command("materials")
-    def materials(name: Optional[str] = typer.Argument(None, help="material to show in full")) -> None:
+    from shockfriction.errors import EXIT_CODES
+
+    @app.command("materials", epilog=EXIT_CODES)
+    def materials(name: Optional[str] = typer.Argument(None, help="material to show in full"),
+                  verbose: int = VERBOSE, quiet: bool = QUIET) -> None:
         """List the material library, or print one material with every parameter, unit and source."""
+        from shockfriction.log import configure_logging, verbosity
+
+        configure_logging(verbosity(verbose, quiet))
         from shockfriction.materials.library import get_material, material_names
 
         console = Console(width=160)

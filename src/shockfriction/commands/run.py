@@ -7,6 +7,8 @@ from typing import Optional
 
 import typer
 
+from shockfriction.cli_options import ALLOW_GEO, DRY_RUN, FORCE, QUIET, VERBOSE
+
 
 def register(app: typer.Typer) -> None:
     from shockfriction.errors import EXIT_CODES
@@ -17,12 +19,15 @@ def register(app: typer.Typer) -> None:
         out: Path = typer.Option(Path("out"), "--out", "-o", help="output folder (new or empty; see --force)"),
         threads: Optional[int] = typer.Option(None, "--threads", "-t",
                                               help="numba threads (1 = serial kernels, 0 = all); default: deck"),
-        force: bool = typer.Option(False, "--force", "-f",
-                                   help="reuse a non-empty OUT: delete its previous shockfriction outputs first"),
-        verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
-        quiet: bool = typer.Option(False, "--quiet", "-q", help="no progress bar; log errors only"),
+        force: bool = FORCE,
+        verbose: int = VERBOSE,
+        quiet: bool = QUIET,
         restart: bool = typer.Option(False, "--restart",
                                      help="continue from OUT/checkpoint.h5 (same deck), appending to OUT's outputs"),
+        dry_run: bool = DRY_RUN,
+        allow_outside: bool = typer.Option(False, "--allow-outside",
+                                           help="let the deck name mesh files outside its folder"),
+        allow_geo: bool = ALLOW_GEO,
     ) -> None:
         """Run a deck: probes.csv, energy.csv, fields.h5/.xmf and summary.json in OUT.
 
@@ -30,18 +35,43 @@ def register(app: typer.Typer) -> None:
         (exit status 143 or 130); continue with --restart."""
         from rich.console import Console
 
-        from shockfriction.hydro.api import prepare, run_simulation
-        from shockfriction.io.outdir import check_out_path, check_threads, prepare_out_dir
-        from shockfriction.io.session import RunInterrupted
+        from shockfriction.deck.base import load_deck
+        from shockfriction.deck.run import RunDeck
+        from shockfriction.io.outdir import check_out_path, check_threads, out_dir_state, prepare_out_dir
         from shockfriction.log import configure_logging, verbosity
+        from shockfriction.safety import Trust
 
         configure_logging(verbosity(verbose, quiet))
         check_threads(threads)
         check_out_path(out)
-        sim = prepare(deck, threads=threads)
+        trust = Trust(allow_outside=allow_outside, allow_geo=allow_geo)
+        model = load_deck(deck, RunDeck, trust)  # before the hydrocode is imported: a bad deck fails fast
+        if dry_run:
+            from shockfriction.hydro.setup import build_problem
+
+            problem = build_problem(model, str(deck))
+            mesh = problem.mesh
+            con = Console()
+            con.print(f"{deck}: valid run deck {model.title!r} ({model.geometry}), {mesh.n_cells:,} cells, "
+                      f"{mesh.n_nodes:,} nodes, {len(model.bodies)} bodies, {len(model.ties)} ties, "
+                      f"{len(model.slide_lines)} slide lines, {len(model.probes)} probes, end time "
+                      f"{model.time.end:.4g} s", highlight=False)
+            for b, name in enumerate(mesh.names):
+                body = model.bodies[b]
+                what = f"{Path(body.mesh.file).name}:{body.mesh.group}" if body.from_file else \
+                    f"{body.mesh.nx} x {body.mesh.ny} block"
+                con.print(f"  body {name}: {mesh.cell_start[b + 1] - mesh.cell_start[b]:,} cells ({what}), "
+                          f"material {body.material or 'inline'}", highlight=False)
+            con.print(f"output folder {out}: {out_dir_state(out, force=force, restart=restart)}; nothing run",
+                      highlight=False)
+            return
+        from shockfriction.hydro.api import prepare, run_simulation
+        from shockfriction.io.session import RunInterrupted
+
+        sim = prepare(model, threads=threads, source=str(deck))
         prepare_out_dir(out, force=force, restart=restart)
         try:
-            res = run_simulation(sim, out, progress=not quiet, restart=restart, signals=True)
+            res = run_simulation(sim, out, progress=not quiet, restart=restart, signals=True, force=force)
         except RunInterrupted as exc:
             Console(stderr=True).print(f"[yellow]{exc}; outputs and checkpoint written in {out} "
                                        "(continue with --restart)[/]", highlight=False)

@@ -8,6 +8,8 @@ from typing import Optional
 import numpy as np
 import typer
 
+from shockfriction.cli_options import DRY_RUN, FORCE, QUIET, VERBOSE
+
 
 def register(app: typer.Typer) -> None:
     from shockfriction.errors import EXIT_CODES
@@ -17,32 +19,40 @@ def register(app: typer.Typer) -> None:
         deck: Path = typer.Argument(..., help="TOML deck (see examples/subgrid/)"),
         out: Optional[Path] = typer.Option(None, "--out", help="output folder (default: out/<deck stem>)"),
         plots: bool = typer.Option(True, "--plots/--no-plots", help="write the PNG figures"),
-        force: bool = typer.Option(False, "--force", "-f",
-                                   help="reuse a non-empty OUT: delete its previous shockfriction outputs first"),
-        verbose: int = typer.Option(0, "--verbose", "-v", count=True, help="more log messages (-vv: debug)"),
-        quiet: bool = typer.Option(False, "--quiet", "-q", help="log errors only"),
+        force: bool = FORCE,
+        verbose: int = VERBOSE,
+        quiet: bool = QUIET,
+        dry_run: bool = DRY_RUN,
     ) -> None:
-        """Run the thesis's sub-grid interface model (ch. 7 thermoelastic or ch. 8 thermoelastoplastic)
-        under imposed slip velocity and normal stress, or a heat flux alone.
+        """Run a sub-grid interface model (model = thermoelastic, thesis ch. 7; thermoelastoplastic, ch. 8;
+        or viscoplastic, docs/theory/viscoplastic.md) under imposed slip velocity and normal stress, or a
+        heat flux alone.
 
-        Writes history.csv (t_s, theta_interface_K, tau_Pa, slip_macro_mps, slip_local_mps,
-        flux_Wm2 = flux entering the column, iterations), profiles.csv (t_s, z_m, theta_K, eps_p)
-        and interface.png / profiles.png.
+        Writes history.csv (t [s], theta_interface [K], tau [Pa], slip_macro [m/s], slip_local [m/s],
+        flux [W/m^2] = flux entering the column, iterations), profiles.csv (t [s], z [m], theta [K],
+        eps_p [-]) and interface.png / profiles.png.
         """
         from rich.console import Console
 
         from shockfriction.deck.base import load_deck
         from shockfriction.deck.subgrid import SubgridDeck
         from shockfriction.friction.subgrid.driver import run_subgrid
-        from shockfriction.io.outdir import check_out_path, prepare_out_dir
+        from shockfriction.io.outdir import check_out_path, out_dir_state, prepare_out_dir
         from shockfriction.log import configure_logging, verbosity
         from shockfriction.plot.subgrid import plot_interface, plot_profiles
 
         configure_logging(verbosity(verbose, quiet))
         out_dir = check_out_path(out if out is not None else Path("out") / deck.stem)
         model = load_deck(deck, SubgridDeck)
+        if dry_run:
+            Console().print(f"{deck}: valid sub-grid deck, model {model.model!r}, material {model.material}, "
+                            f"{len(model.loading)} column(s) of {model.column.cells} cells, "
+                            f"duration {model.duration:.4g} s in steps of {model.dt:.4g} s\n"
+                            f"output folder {out_dir}: {out_dir_state(out_dir, force=force)}; nothing run",
+                            highlight=False)
+            return
         prepare_out_dir(out_dir, force=force, restart=False)
-        res = run_subgrid(model, out_dir, source=str(deck))
+        res = run_subgrid(model, out_dir, source=str(deck), force=force)
         files = list(res.files)
         if plots:
             title = model.title or deck.stem

@@ -19,6 +19,7 @@ from pydantic import (ConfigDict, Discriminator, Field, Tag, TypeAdapter, Valida
 
 from shockfriction.contact.deck import SlideLineDeck
 from shockfriction.deck.base import DeckModel, known_material
+from shockfriction.safety import MAX_CELLS
 from shockfriction.units import (
     Density, Dimensionless, Length, PositiveLength, PositiveTime, Pressure, SpecificEnergy, SpecificHeat, Temperature,
     Velocity,
@@ -29,7 +30,6 @@ PositiveSpecificHeat = Annotated[SpecificHeat, Field(gt=0.0)]
 PositiveDensity = Annotated[Density, Field(gt=0.0)]
 PositivePressure = Annotated[Pressure, Field(gt=0.0)]
 
-MAX_CELLS = 20_000_000  # ~ 6 GB of state arrays
 SIDE_NAMES = ("bottom", "right", "top", "left")
 Side = Literal["bottom", "right", "top", "left"]
 Point = tuple[Length, Length]
@@ -78,14 +78,26 @@ class MeshFile(DeckModel):
     @field_validator("file")
     @classmethod
     def _exists(cls, v: str, info: ValidationInfo) -> str:
+        from shockfriction.safety import TRUSTED, outside_message
+
+        ctx = info.context or {}
+        trust = ctx.get("trust") or TRUSTED  # the Python API trusts its caller; the command line does not
         path = Path(v).expanduser()
-        folder = (info.context or {}).get("deck_dir")
+        folder = ctx.get("deck_dir")
         if not path.is_absolute() and folder is not None:
             path = Path(folder) / path
         if path.suffix not in (".msh", ".geo"):
             raise ValueError(f"expected a gmsh .msh or .geo file, got {v!r}")
+        if not trust.allow_outside:
+            message = outside_message(folder if folder is not None else Path.cwd(), str(path))
+            if message:
+                raise ValueError(message)
+        if path.suffix == ".geo" and not trust.allow_geo:
+            raise ValueError("a .geo file is a gmsh script that can run commands and write files: expected a "
+                             ".msh mesh, or --allow-geo on the command line to mesh it")
         if not path.is_file():
-            raise ValueError(f"expected an existing mesh file; {str(path)!r} does not exist")
+            kind = "is not a regular file" if path.exists() else "does not exist"
+            raise ValueError(f"expected an existing mesh file; {str(path)!r} {kind}")
         return str(path.resolve())
 
 
@@ -328,6 +340,9 @@ class RunDeck(DeckModel):
     title: str = ""
     geometry: Literal["planar", "axisymmetric"] = "planar"
     threads: int = Field(default=1, ge=0)
+    max_cells: int = Field(default=MAX_CELLS, ge=1, description="largest number of cells in all bodies "
+                           "(block meshes: nx * ny summed; gmsh meshes: checked before they are read or meshed); "
+                           "a guard against a deck that would exhaust the memory, ~300 bytes a cell")
     time: TimeSpec
     viscosity: Viscosity = Field(default_factory=Viscosity)
     output: Output = Field(default_factory=Output)
@@ -337,6 +352,23 @@ class RunDeck(DeckModel):
     # Slide lines between bodies (shockfriction.contact.deck.SlideLineDeck), built by the
     # contact module into interface objects registered in the cycle (hydro.setup.build_slide_lines).
     slide_lines: list[SlideLineDeck] = Field(default_factory=list)
+
+    def _no_degenerate_pairs(self) -> None:
+        """A tie or slide line joins two different sides, and each pair of sides is joined once."""
+        seen: dict[frozenset, str] = {}
+        pairs = [(f"ties[{k}].sides", tuple(t.sides)) for k, t in enumerate(self.ties)]
+        pairs += [(f"slide_lines[{k}]", (f"{sl.guide.body}.{sl.guide.side}", f"{sl.slave.body}.{sl.slave.side}"))
+                  for k, sl in enumerate(self.slide_lines)]
+        for where, (a, b) in pairs:
+            if a == b:
+                what = "guide and slave" if where.startswith("slide") else "sides"
+                raise ValueError(f"{where}: {what} = {a!r} twice: expected two different sides (a side cannot be "
+                                 "joined to itself)")
+            key = frozenset((a, b))
+            if key in seen:
+                raise ValueError(f"{where}: {a!r} and {b!r} are already joined by {seen[key]}: expected each pair "
+                                 "of sides joined once (one tie or one slide line)")
+            seen[key] = where
 
     @model_validator(mode="after")
     def _references(self):
@@ -367,14 +399,17 @@ class RunDeck(DeckModel):
                 if ref.side not in SIDE_NAMES and not by_name[ref.body].from_file:
                     raise ValueError(f"slide_lines[{k}].{role}.side = {ref.side!r}: expected one of "
                                      f"{', '.join(SIDE_NAMES)} (body {ref.body!r} is a block)")
+        self._no_degenerate_pairs()
         if len({sl.name for sl in self.slide_lines}) != len(self.slide_lines):
             raise ValueError("slide line names must be unique")
         pnames = [p.name for p in self.probes]
         if len(set(pnames)) != len(pnames):
             raise ValueError("probe names must be unique")
         cells = sum(b.mesh.nx * b.mesh.ny for b in self.bodies if not b.from_file)  # file meshes: counted as read
-        if cells > MAX_CELLS:
-            raise ValueError(f"at most {MAX_CELLS:,} cells in all (nx * ny summed over the bodies), got {cells:,}")
+        if cells > self.max_cells:
+            raise ValueError(f"{cells:,} cells in all (nx * ny summed over the bodies): expected at most max_cells = "
+                             f"{self.max_cells:,} (raise max_cells in the deck if the machine has the memory, "
+                             "~300 bytes a cell)")
         out = self.output
         n_fields = len(out.field_times)
         if out.field_interval is not None:

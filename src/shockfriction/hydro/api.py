@@ -97,20 +97,23 @@ class Result:
 
 
 def load(deck_or_path: RunDeck | str | Path | dict, source: str | None = None,
-         folder: str | Path | None = None) -> RunDeck:
+         folder: str | Path | None = None, trust=None) -> RunDeck:
     """A validated RunDeck from a model, a TOML path or a dict (``folder``: where a dict's
-    relative mesh-file paths are resolved; default the current directory)."""
+    relative mesh-file paths are resolved; default the current directory; ``trust``: what the
+    deck's files may be, :class:`shockfriction.safety.Trust`, default trusted)."""
     if isinstance(deck_or_path, RunDeck):
         return deck_or_path
     if isinstance(deck_or_path, dict):
-        return validate(RunDeck, deck_or_path, source or "deck", folder)
-    return load_deck(deck_or_path, RunDeck)
+        return validate(RunDeck, deck_or_path, source or "deck", folder, trust)
+    return load_deck(deck_or_path, RunDeck, trust)
 
 
-def prepare(deck_or_path, threads: int | None = None, interfaces=None) -> Simulation:
-    """Build the problem and the simulation (slide lines of the deck registered)."""
-    source = str(deck_or_path) if isinstance(deck_or_path, (str, Path)) else "deck"
-    deck = load(deck_or_path)
+def prepare(deck_or_path, threads: int | None = None, interfaces=None, trust=None,
+            source: str | None = None) -> Simulation:
+    """Build the problem and the simulation (slide lines of the deck registered); ``source``: the
+    deck's name in messages (default: its path, or "deck")."""
+    source = source or (str(deck_or_path) if isinstance(deck_or_path, (str, Path)) else "deck")
+    deck = load(deck_or_path, trust=trust)
     problem = build_problem(deck, source)
     sim = Simulation(problem, interfaces=interfaces, threads=threads)
     for obj in build_slide_lines(problem, sim):
@@ -119,15 +122,22 @@ def prepare(deck_or_path, threads: int | None = None, interfaces=None) -> Simula
 
 
 def energy_header(axisymmetric: bool) -> list[str]:
+    """Header of ``energy.csv``: ``t [s]``, then ``<term> [J]`` (per radian, axisymmetric) or ``[J/m]``."""
     unit = "J" if axisymmetric else "J/m"
-    return ["t_s"] + [f"{c}_{unit}" for c in ENERGY_COLUMNS[1:]]
+    return ["t [s]"] + [f"{c} [{unit}]" for c in ENERGY_COLUMNS[1:]]
 
 
 def probe_header(sim: Simulation) -> list[str]:
-    out = ["t_s"]
+    """Header of ``probes.csv``: ``t [s]``, then ``<probe>.<quantity> [unit]`` (``[-]``: dimensionless)."""
+    out = ["t [s]"]
     for p in sim.problem.probes:
-        out += [f"{p.name}.{q}_{PROBE_QUANTITIES[q]}" for q in p.quantities]
+        out += [f"{p.name}.{q} [{csv_unit(PROBE_QUANTITIES[q])}]" for q in p.quantities]
     return out
+
+
+def csv_unit(unit: str) -> str:
+    """A unit as the CSV headers write it (docs/cli.md): ``1`` -> ``-``, ``kg/m3`` -> ``kg/m^3``."""
+    return {"1": "-", "kg/m3": "kg/m^3"}.get(unit, unit)
 
 
 def summarize(sim: Simulation) -> dict[str, Any]:
@@ -155,15 +165,20 @@ def summarize(sim: Simulation) -> dict[str, Any]:
 
 def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress: bool = False,
                    on_progress: Callable[[float], None] | None = None, restart: bool = False,
-                   signals: bool = False) -> Result:
+                   signals: bool = False, force: bool = False) -> Result:
     """Run a prepared simulation, writing ``probes.csv``, ``energy.csv``, fields, slide-line records
     and ``summary.json`` into ``out_dir`` when given, complete at every output time
     (:class:`~shockfriction.io.session.RunOutputs`); ``restart``: continue from ``out_dir``'s checkpoint;
     ``signals``: SIGTERM/SIGINT stop at the end of a cycle with a checkpoint (raises
-    :class:`~shockfriction.io.session.RunInterrupted`)."""
+    :class:`~shockfriction.io.session.RunInterrupted`).  A non-empty ``out_dir`` is refused
+    (:class:`~shockfriction.errors.UsageError`) unless ``force`` (its previous outputs are deleted)
+    or ``restart``, as on the command line (:func:`shockfriction.io.outdir.prepare_out_dir`)."""
     outputs = None
     if out_dir is not None:
+        from shockfriction.io.outdir import prepare_out_dir
         from shockfriction.io.session import RunOutputs
+
+        prepare_out_dir(out_dir, force=force, restart=restart, option="out_dir")
 
         outputs = RunOutputs(sim, out_dir, restart=restart, summarize=summarize,
                              headers=(energy_header(sim.state.axisymmetric), probe_header(sim)), signals=signals)
@@ -203,13 +218,14 @@ def run_simulation(sim: Simulation, out_dir: str | Path | None = None, progress:
 
 
 def run(deck_or_path, out_dir: str | Path | None = None, progress: bool = False,
-        threads: int | None = None, restart: bool = False) -> Result:
+        threads: int | None = None, restart: bool = False, force: bool = False) -> Result:
     """Load, build and run a deck (TOML path, dict or RunDeck); ``restart``: continue from the
-    checkpoint in ``out_dir`` (docs/theory/outputs-and-restart.md)."""
-    return run_simulation(prepare(deck_or_path, threads=threads), out_dir, progress, restart=restart)
+    checkpoint in ``out_dir`` (docs/theory/outputs-and-restart.md); ``force``: replace the
+    previous outputs of a non-empty ``out_dir`` (refused otherwise)."""
+    return run_simulation(prepare(deck_or_path, threads=threads), out_dir, progress, restart=restart, force=force)
 
 
 def run_dict(deck_dict: dict, out_dir: str | Path | None = None, progress: bool = False,
-             threads: int | None = None, restart: bool = False) -> Result:
+             threads: int | None = None, restart: bool = False, force: bool = False) -> Result:
     """Run a deck given as a dict (unit strings as in TOML), e.g. from a sweep."""
-    return run(load(deck_dict, "deck"), out_dir, progress, threads, restart)
+    return run(load(deck_dict, "deck"), out_dir, progress, threads, restart, force)

@@ -222,7 +222,7 @@ def _probe(deck: RunDeck, mesh: Mesh, k: int, source: str) -> list[ProbeSpec]:
     return out
 
 
-def _block(body, source: str):
+def _block(body, source: str, max_cells: int | None = None):
     """The mesh block of a body: a mapped quad, or a physical surface of a gmsh file."""
     m = body.mesh
     if not body.from_file:
@@ -230,7 +230,7 @@ def _block(body, source: str):
     from shockfriction.mesh.gmsh import MeshFileError, load_block
 
     try:
-        return load_block(m.file, m.group, m.scale, m.parameters)
+        return load_block(m.file, m.group, m.scale, m.parameters, max_cells)
     except MeshFileError as exc:
         raise DeckError(f"{source}: bodies.{body.name}.mesh: {exc}") from None
 
@@ -270,7 +270,7 @@ def _check_overlap(mesh: Mesh, source: str) -> None:
 
 def build_problem(deck: RunDeck, source: str = "deck") -> Problem:
     """Mesh every body, number globally, set initial state, constraints, groups, probes."""
-    blocks = [_block(b, source) for b in deck.bodies]
+    blocks = [_block(b, source, deck.max_cells) for b in deck.bodies]
     names = [b.name for b in deck.bodies]
     mesh = Mesh(names, blocks)
     if deck.geometry == "axisymmetric":

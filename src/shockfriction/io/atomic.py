@@ -12,6 +12,13 @@ import tempfile
 from pathlib import Path
 
 
+def output_mode() -> int:
+    """The mode ``open(path, "w")`` gives a new file: 0666 less the process's umask (0644 usually)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 def atomic_write_text(path: str | Path, text: str, sync: bool = False) -> Path:
     """Replace ``path`` by a file holding ``text`` (a temporary file next to it + ``os.replace``).
 
@@ -20,6 +27,7 @@ def atomic_write_text(path: str | Path, text: str, sync: bool = False) -> Path:
     path = Path(path)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        os.fchmod(fd, output_mode())  # mkstemp makes 0600; outputs are 0644 (less the umask) like open()
         with os.fdopen(fd, "w") as fh:
             fh.write(text)
             if sync:

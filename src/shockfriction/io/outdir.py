@@ -1,13 +1,17 @@
 """Checks of command-line outputs and counts: refuse to mix a new run into an old folder.
 
 ``prepare_out_dir(path, force, restart)`` is the one place that decides what an
-existing ``--out`` folder may hold (``run`` and ``subgrid``; a sweep resumes into
-its folder and only needs :func:`check_out_path`).
+existing output folder may hold, for every command that writes one (``run``, ``subgrid``,
+``fit``, ``sweep``) and for the Python API (``run(..., out_dir, force=...)``,
+``run_subgrid``, ``fit``'s ``write_outputs``): a new or empty folder is used, a non-empty one
+is refused unless ``force``.  A sweep's folder that already holds that sweep (its ``plan.json``)
+is resumed into (``resume``).
 """
 
 from __future__ import annotations
 
 import logging
+import shutil
 from pathlib import Path
 
 from shockfriction.errors import UsageError
@@ -21,7 +25,12 @@ OUTPUT_PATTERNS = (
     "history.csv", "history_*.csv", "profiles.csv", "profiles_*.csv",               # subgrid
     "interface.png", "profiles.png",
     "restart*.h5", "checkpoint*.h5",                                                  # restart files
+    "interface.csv", "columns.csv",                                                   # record tables
+    "fit.json", "fit.png", "computed.csv", "computed_*.csv", "evaluations.csv",       # fit
+    "sweep.csv", "records.h5", "plan.json",                                           # sweep (and runs/)
 )
+#: folders a command writes into its output folder (``--force`` removes these too)
+OUTPUT_FOLDERS = ("runs",)
 
 
 def check_out_path(path: str | Path, option: str = "--out") -> Path:
@@ -35,10 +44,30 @@ def check_out_path(path: str | Path, option: str = "--out") -> Path:
 def previous_outputs(path: Path) -> list[Path]:
     """The files of ``path`` (not recursive) that match :data:`OUTPUT_PATTERNS`."""
     found = {p for pattern in OUTPUT_PATTERNS for p in path.glob(pattern) if p.is_file()}
+    if (path / "plan.json").is_file():  # a sweep's journal goes with its plan
+        found |= {path / d for d in OUTPUT_FOLDERS if (path / d).is_dir() and not (path / d).is_symlink()}
     return sorted(found)
 
 
-def prepare_out_dir(path: str | Path, force: bool = False, restart: bool = False, option: str = "--out") -> Path:
+def out_dir_state(path: str | Path, force: bool = False, restart: bool = False, resume: bool = False) -> str:
+    """What :func:`prepare_out_dir` would do with ``path`` (for ``--dry-run``), in words."""
+    path = Path(path)
+    if not path.exists():
+        return "new, would be created"
+    entries = list(path.iterdir())
+    if not entries:
+        return "empty, would be used"
+    if restart:
+        return "kept for --restart"
+    if resume and (path / "plan.json").is_file():
+        return "holds a sweep, would be resumed"
+    if force:
+        return f"not empty: --force would delete its {len(previous_outputs(path))} previous output(s)"
+    return f"not empty ({len(entries)} entries): refused without --force"
+
+
+def prepare_out_dir(path: str | Path, force: bool = False, restart: bool = False, option: str = "--out",
+                    resume: bool = False) -> Path:
     """Make ``path`` ready for a new run and return it.
 
     A missing folder is created and an empty one used as is.  A non-empty folder is
@@ -58,12 +87,17 @@ def prepare_out_dir(path: str | Path, force: bool = False, restart: bool = False
     entries = list(path.iterdir())
     if not entries:
         return path
+    if resume and not force and (path / "plan.json").is_file():
+        return path
     if not force:
         raise UsageError(f"{option} = '{path}' is not empty ({len(entries)} entries); "
                          "use --force to replace its previous outputs, or choose a new folder")
     old = previous_outputs(path)
     for p in old:
-        p.unlink()
+        if p.is_dir():
+            shutil.rmtree(p)
+        else:
+            p.unlink()
     kept = len(entries) - len(old)
     log.info("--force: removed %d previous output file(s) from %s%s", len(old), path,
              f", kept {kept} other entries" if kept else "")

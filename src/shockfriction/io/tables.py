@@ -34,11 +34,14 @@ INTERFACE_COLUMNS = {
 
 
 def unit_column(name: str) -> str:
-    """``cone_fs.vy_m/s`` -> ``cone_fs.vy [m/s]``; ``t_s`` -> ``t [s]``; ``eps_p_1`` -> ``eps_p [-]``."""
-    m = re.fullmatch(r"(.+?)_(m/s|m|s|Pa|K|J|J/m|J/kg|kg/m3|1)", name)
+    """``cone_fs.vy_m/s`` -> ``cone_fs.vy [m/s]``; ``t_s`` -> ``t [s]``; ``eps_p_1`` -> ``eps_p [-]``;
+    a name already in the ``name [unit]`` style is returned as it is."""
+    if name.endswith("]"):
+        return name
+    m = re.fullmatch(r"(.+?)_(m/s|m|s|Pa|K|J|J/m|J/kg|kg/m3|kg|1)", name)
     if not m:
         return name
-    unit = "-" if m.group(2) == "1" else m.group(2)
+    unit = {"1": "-", "kg/m3": "kg/m^3"}.get(m.group(2), m.group(2))
     return f"{m.group(1)} [{unit}]"
 
 

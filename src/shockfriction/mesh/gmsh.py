@@ -45,47 +45,136 @@ class MeshData:
     vertices: dict[str, np.ndarray] = field(default_factory=dict)   # point group -> (n,) point ids
 
 
-def _mesh_geo(path: Path, parameters: dict[str, float]) -> Path:
-    """Mesh a .geo file with the gmsh API (``parameters`` set as parser numbers first: the
-    file should define defaults with ``If (!Exists(name)) name = value; EndIf``); returns a .msh."""
-    import gmsh
-
-    folder = Path(tempfile.mkdtemp(prefix="shockfriction-gmsh-"))
-    out = folder / (path.stem + ".msh")
-    gmsh.initialize(readConfigFiles=False, interruptible=False)
+#: the child process that meshes a .geo (a fresh interpreter: the gmsh library, an address-space
+#: cap, the parent's death ends it; its working folder is a scratch folder deleted afterwards)
+_GMSH_CHILD = r"""
+import ctypes, json, math, resource, signal, sys
+try:
+    ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+except OSError:
+    pass
+src, out, params = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
+limit, max_cells = int(sys.argv[4]), int(sys.argv[5])
+resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+import gmsh
+gmsh.initialize(readConfigFiles=False, interruptible=False)
+try:
+    gmsh.option.setNumber("General.Terminal", 0)
+    for name, value in params.items():
+        gmsh.parser.setNumber(name, [float(value)])
+    gmsh.merge(src)
+    gmsh.model.mesh.generate(1)
+    estimate = 0.0
+    for dim, tag in gmsh.model.getEntities(2):
+        x0, y0, _, x1, y1, _ = gmsh.model.getBoundingBox(dim, tag)
+        lengths = []
+        for _, c in gmsh.model.getBoundary([(dim, tag)], oriented=False):
+            _, xyz, u = gmsh.model.mesh.getNodes(1, abs(c), includeBoundary=True)
+            order = sorted(range(len(u)), key=lambda k: u[k])  # along the curve (end nodes come last)
+            p = [(xyz[3 * k], xyz[3 * k + 1]) for k in order]
+            lengths += [math.dist(a, b) for a, b in zip(p, p[1:])]
+        lengths = [h for h in lengths if h > 0.0]
+        if lengths:
+            h = sum(lengths) / len(lengths)
+            estimate += (x1 - x0) * (y1 - y0) / (h * h)
+    if estimate > 4 * max_cells:
+        sys.stdout.write(json.dumps({"too_many": estimate, "estimated": True}) + "\n")
+        sys.exit(3)
+    gmsh.model.mesh.generate(2)
+    n = sum(len(t) for t in gmsh.model.mesh.getElements(2)[1])
+    if n > max_cells:
+        sys.stdout.write(json.dumps({"too_many": n, "estimated": False}) + "\n")
+        sys.exit(3)
+    gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+    gmsh.write(out)
+except MemoryError:
+    sys.stdout.write(json.dumps({"error": "out of memory"}) + "\n")
+    sys.exit(1)
+except Exception as exc:
+    sys.stdout.write(json.dumps({"error": str(exc)}) + "\n")
+    sys.exit(1)
+finally:
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        for name, value in parameters.items():
-            gmsh.parser.setNumber(name, [float(value)])
-        gmsh.merge(str(path))
-        gmsh.model.mesh.generate(2)
-        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
-        gmsh.write(str(out))
-    except Exception as exc:  # noqa: BLE001 -- gmsh raises a bare Exception carrying its last error
-        out.unlink(missing_ok=True)
-        folder.rmdir()
-        raise MeshFileError(f"{path}: gmsh could not mesh it: {exc}") from None
-    finally:
         gmsh.finalize()
+    except Exception:
+        pass
+"""
+
+
+def _mesh_geo(path: Path, parameters: dict[str, float], folder: Path, max_cells: int) -> Path:
+    """Mesh a .geo file with gmsh in a child process (``parameters`` set as parser numbers first: the
+    file should define defaults with ``If (!Exists(name)) name = value; EndIf``); returns a .msh in
+    ``folder``.  The child runs in ``folder`` under an address-space cap
+    (:data:`shockfriction.safety.GMSH_MEMORY_BYTES`) and a time cap; a mesh estimated (from the 1D
+    mesh, before the surfaces are meshed) or found to hold more than ``max_cells`` elements is refused."""
+    import json
+    import subprocess
+    import sys
+
+    from shockfriction.safety import GMSH_MEMORY_BYTES, GMSH_SECONDS
+
+    out = folder / (path.stem + ".msh")
+    argv = [sys.executable, "-c", _GMSH_CHILD, str(path.resolve()), str(out), json.dumps(parameters),
+            str(GMSH_MEMORY_BYTES), str(max_cells)]
+    try:
+        res = subprocess.run(argv, cwd=folder, capture_output=True, text=True, timeout=GMSH_SECONDS,
+                             stdin=subprocess.DEVNULL)
+    except subprocess.TimeoutExpired:
+        raise MeshFileError(f"{path}: gmsh did not mesh it within {GMSH_SECONDS:g} s") from None
+    lines = [ln for ln in res.stdout.splitlines() if ln.startswith("{")]
+    info = json.loads(lines[-1]) if lines else {}
+    if "too_many" in info:
+        what = "an estimated " if info["estimated"] else ""
+        raise MeshFileError(f"{path}: gmsh would make {what}{info['too_many']:.3g} elements: expected at most "
+                            f"max_cells = {max_cells:,} (raise max_cells in the run deck if it is meant)")
+    if res.returncode != 0 or not out.is_file():
+        why = info.get("error") or (res.stderr.strip().splitlines() or [f"exit status {res.returncode}"])[-1]
+        if res.returncode < 0 or "memory" in why.lower() or "bad_alloc" in why:
+            why = f"{why} (gmsh is capped at {GMSH_MEMORY_BYTES / 2**30:g} GiB)"
+        raise MeshFileError(f"{path}: gmsh could not mesh it: {why}")
     return out
 
 
-def read_mesh_file(path: str | Path, scale: float = 1.0, parameters: dict[str, float] | None = None) -> MeshData:
-    """Read a .msh (meshio) or mesh a .geo (gmsh API) into :class:`MeshData`."""
+#: bytes of a .msh file per cell allowed before it is read (ASCII quads and nodes take ~100 B)
+MSH_BYTES_PER_CELL = 400
+
+
+def read_mesh_file(path: str | Path, scale: float = 1.0, parameters: dict[str, float] | None = None,
+                   max_cells: int | None = None) -> MeshData:
+    """Read a .msh (meshio) or mesh a .geo (gmsh, child process) into :class:`MeshData`; a mesh
+    over ``max_cells`` elements (default: the run deck's default) is refused before it is read."""
+    import shutil
     import meshio
 
+    from shockfriction.safety import MAX_CELLS
+
     path = Path(path)
+    max_cells = MAX_CELLS if max_cells is None else int(max_cells)
     if not path.is_file():
         raise MeshFileError(f"{path}: no such file")
-    msh = _mesh_geo(path, parameters or {}) if path.suffix == ".geo" else path
+    folder = None
     try:
-        m = meshio.read(msh, file_format="gmsh")
-    except Exception as exc:  # noqa: BLE001 -- meshio raises ReadError, KeyError, ValueError, ... on bad files
-        raise MeshFileError(f"{path}: not a readable gmsh mesh: {exc}") from None
+        if path.suffix == ".geo":
+            folder = Path(tempfile.mkdtemp(prefix="sf-gmsh-"))
+            msh = _mesh_geo(path, parameters or {}, folder, max_cells)
+        else:
+            msh = path
+            size = path.stat().st_size
+            if size > MSH_BYTES_PER_CELL * max_cells:
+                raise MeshFileError(f"{path}: {size:,} bytes, more than a mesh of max_cells = {max_cells:,} cells "
+                                    f"needs ({MSH_BYTES_PER_CELL} bytes a cell): raise max_cells in the run deck "
+                                    "if it is meant")
+        try:
+            m = meshio.read(msh, file_format="gmsh")
+        except Exception as exc:  # noqa: BLE001 -- meshio raises ReadError, KeyError, ValueError, ... on bad files
+            raise MeshFileError(f"{path}: not a readable gmsh mesh: {exc}") from None
     finally:
-        if msh is not path:
-            msh.unlink(missing_ok=True)
-            msh.parent.rmdir()
+        if folder is not None:
+            shutil.rmtree(folder, ignore_errors=True)
+    n_cells = sum(len(b.data) for b in m.cells if b.dim == 2) if m.cells else 0
+    if n_cells > max_cells:
+        raise MeshFileError(f"{path}: {n_cells:,} surface elements: expected at most max_cells = {max_cells:,} "
+                            "(raise max_cells in the run deck if it is meant)")
     pts = np.asarray(m.points, dtype=float)
     if pts.shape[1] > 2 and np.ptp(pts[:, 2]) > 1e-9 * max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1]), 1e-300):
         raise MeshFileError(f"{path}: the mesh is not planar (z varies); shockfriction meshes lie in the x-y plane")
@@ -250,7 +339,7 @@ _CACHE: dict[tuple, MeshData] = {}
 
 
 def load_block(path: str | Path, group: str, scale: float = 1.0,
-               parameters: dict[str, float] | None = None) -> FileBlock:
+               parameters: dict[str, float] | None = None, max_cells: int | None = None) -> FileBlock:
     """The body ``group`` (a physical surface) of a mesh file; files are read once per process
     (keyed by path, modification time, scale and parameters)."""
     path = Path(path).resolve()
@@ -258,5 +347,5 @@ def load_block(path: str | Path, group: str, scale: float = 1.0,
     key = (str(path), path.stat().st_mtime_ns if path.exists() else 0, scale, tuple(sorted(params.items())))
     if key not in _CACHE:
         _CACHE.clear()
-        _CACHE[key] = read_mesh_file(path, scale, params)
+        _CACHE[key] = read_mesh_file(path, scale, params, max_cells)
     return FileBlock(_CACHE[key], group)

@@ -21,11 +21,12 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from shockfriction.deck.base import read_toml
+from shockfriction.io.atomic import atomic_write_text
 from shockfriction.safety import TRUSTED, Trust
 from shockfriction.sweep.design import RunPoint, build_runs, column_unit
 from shockfriction.sweep.executors import open_executor
 from shockfriction.sweep.journal import finished, read_summary, result_path, write_result
-from shockfriction.sweep.runners import check_deck, detect_kind, load_function
+from shockfriction.sweep.runners import anchor_files, check_deck, detect_kind, load_function
 from shockfriction.sweep.spec import SweepSpec, load_sweep
 from shockfriction.sweep.store import gather, write_records, write_table
 from shockfriction.sweep.worker import execute
@@ -58,7 +59,8 @@ def plan(sweep_file: str | Path, trust: Trust = TRUSTED,
     exists; ``--dry-run`` passes False and so runs no user code."""
     sweep_file = Path(sweep_file)
     spec, here = load_sweep(sweep_file, trust)
-    base = read_toml(here / spec.base) if spec.base else {}
+    base = anchor_files(read_toml(here / spec.base), (here / spec.base).parent,
+                        f"{sweep_file}: base = {spec.base!r}", trust) if spec.base else {}
     kind = spec.effective_kind
     if kind is None:
         build_runs(spec, base, None, str(sweep_file))  # report a bad path before an unknown kind
@@ -76,13 +78,17 @@ def plan(sweep_file: str | Path, trust: Trust = TRUSTED,
 
 def run_sweep(sweep_file: str | Path, out_dir: str | Path, scheduler: str | None = None,
               workers: int | None = None, retry_failed: bool = False, progress: bool = True,
-              executor: Executor | None = None, trust: Trust = TRUSTED) -> SweepOutcome:
-    """Run (or resume) the sweep of ``sweep_file`` into ``out_dir``; see the module docstring."""
+              executor: Executor | None = None, trust: Trust = TRUSTED, force: bool = False) -> SweepOutcome:
+    """Run (or resume) the sweep of ``sweep_file`` into ``out_dir``; see the module docstring.
+
+    ``out_dir`` is new, empty or holds a sweep (``plan.json``: resumed); another non-empty folder is
+    refused (:class:`~shockfriction.errors.UsageError`) unless ``force`` (its previous outputs go)."""
+    from shockfriction.io.outdir import prepare_out_dir
+
     spec, kind, runs = plan(sweep_file, trust)
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    out_dir = prepare_out_dir(out_dir, force=force, resume=True)
     units = {p.column: column_unit(p) for p in spec.parameter}
-    (out_dir / "plan.json").write_text(json.dumps(
+    atomic_write_text(out_dir / "plan.json", json.dumps(
         {"sweep": str(sweep_file), "kind": kind, "parameters": units,
          "runs": [{"run": r.run_id, "key": r.key, "values": r.values} for r in runs]}, indent=1))
 

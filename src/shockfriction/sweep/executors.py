@@ -69,8 +69,17 @@ def open_executor(scheduler: str | None = None, workers: int | None = None,
     if workers is not None and workers < 1:
         raise DeckError(f"--workers = {workers}: expected a positive number of workers")
     if scheduler is None:
+        import shutil
+        import tempfile
+
+        from shockfriction.sweep.worker import init_worker
+
+        # the workers' scratch folders live in one folder of the pool's, removed when the pool ends
+        # (also the scratch of a worker that crashed); a killed parent leaves it to the workers
+        root = tempfile.mkdtemp(prefix="sf-pool-")
         pool = ProcessPoolExecutor(max_workers=workers or usable_cores(),
-                                   mp_context=multiprocessing.get_context("spawn"))
+                                   mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=init_worker, initargs=(os.getpid(), root))
         previous = _sigterm_interrupts()
         try:
             yield pool
@@ -78,9 +87,12 @@ def open_executor(scheduler: str | None = None, workers: int | None = None,
             terminate_workers(pool)
             raise
         finally:
-            pool.shutdown(wait=True, cancel_futures=True)
-            if previous is not None:
-                signal.signal(signal.SIGTERM, previous)
+            try:
+                pool.shutdown(wait=True, cancel_futures=True)
+            finally:
+                shutil.rmtree(root, ignore_errors=True)
+                if previous is not None:
+                    signal.signal(signal.SIGTERM, previous)
         return
     from dask.distributed import Client
 

@@ -23,7 +23,6 @@ sigma = inf and is reported as not identifiable.
 from __future__ import annotations
 
 import csv
-import json
 from concurrent.futures import Executor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -34,6 +33,7 @@ from scipy.optimize import least_squares
 from scipy.stats import qmc
 
 from shockfriction.deck.base import read_toml
+from shockfriction.io.atomic import atomic_write_json
 from shockfriction.errors import DeckError, SimulationError
 from shockfriction.safety import TRUSTED, Trust
 from shockfriction.sweep.design import run_key
@@ -42,7 +42,7 @@ from shockfriction.sweep.fitspec import FitSpec, load_fit
 from shockfriction.sweep.measured import read_measured
 from shockfriction.sweep.paths import get_path, set_paths
 from shockfriction.sweep.quantities import in_unit, join_value, si_factor, split_value
-from shockfriction.sweep.runners import check_deck, detect_kind
+from shockfriction.sweep.runners import anchor_files, check_deck, detect_kind
 from shockfriction.sweep.worker import execute
 
 
@@ -57,6 +57,8 @@ class Curve:
     t_computed: np.ndarray
     y_computed: np.ndarray
     rms: float
+    column: str = "value"   # the computed record's column (computed.record.value)
+    unit: str = ""          # measured.value_unit: computed.csv writes the computed values in it
 
 
 @dataclass
@@ -114,6 +116,7 @@ class _Data:
     y_m: np.ndarray
     weight: float
     shift: int | None  # index of its time shift in the variable vector
+    unit: str = ""     # measured.value_unit (computed.csv is written in it)
 
     @property
     def keep(self) -> dict:
@@ -144,7 +147,8 @@ class FitProblem:
         self.data: list[_Data] = []
         for k, d in enumerate(spec.datasets()):
             where = f"{source}: dataset[{k}]" if d.name else source
-            base = read_toml(here / d.base) if d.base else {}
+            base = anchor_files(read_toml(here / d.base), (here / d.base).parent, f"{where}: base = {d.base!r}",
+                                trust) if d.base else {}
             deck0 = set_paths(base, d.set, where) if d.set else base
             kind = d.effective_kind or detect_kind(base, f"{where}: base = {d.base!r}")
             t_m, y_m = read_measured(d.measured, here, where)
@@ -157,7 +161,7 @@ class FitProblem:
                 x0.append(in_unit(d.time_shift.initial, "s"))
             weight = 1.0 / (d.sigma * si_factor(d.measured.value_unit)) if d.sigma else 1.0
             self.data.append(_Data(d.name, kind, d.model, deck0, d.computed.record, d.computed.time,
-                                   d.computed.value, t_m, y_m, weight, shift))
+                                   d.computed.value, t_m, y_m, weight, shift, d.measured.value_unit))
         self.lo, self.hi, self.x0 = np.array(lo), np.array(hi), np.array(x0)
         self.weighted = any(d.sigma for d in spec.datasets())
         self.cache: dict[str, dict] = {}  # run key -> records of the run
@@ -331,7 +335,7 @@ def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=N
         shift = x[ds.shift] if ds.shift is not None else 0.0
         r = np.interp(ds.t_m - shift, t_c, y_c) - ds.y_m
         curves.append(Curve(ds.name, f"{ds.record}.{ds.value} (SI)", ds.t_m, ds.y_m, t_c + shift, y_c,
-                            float(np.sqrt(np.mean(r**2)))))
+                            float(np.sqrt(np.mean(r**2))), f"{ds.record}.{ds.value}", ds.unit))
     tol = 1e-9
     return FitResult(
         names=prob.names, units=prob.all_units, values=x, sigma=np.sqrt(np.diag(cov)), covariance=cov,
@@ -341,25 +345,30 @@ def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=N
         runs=prob.runs, curves=curves, weighted=prob.weighted, history=prob.history)
 
 
-def write_outputs(result: FitResult, out_dir: Path) -> dict[str, Path]:
-    """fit.json (report), computed[_<dataset>].csv (best computed records, shifted), evaluations.csv, fit.png."""
+def write_outputs(result: FitResult, out_dir: Path, force: bool = False) -> dict[str, Path]:
+    """fit.json (report), computed[_<dataset>].csv (best computed records, shifted), evaluations.csv, fit.png,
+    in ``out_dir`` (new or empty; a non-empty folder is refused unless ``force``: its previous outputs go)."""
+    from shockfriction.io.outdir import prepare_out_dir
     from shockfriction.sweep.fitplot import plot_fit
 
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
+    from shockfriction.sweep.quantities import si_factor
+
+    out_dir = prepare_out_dir(out_dir, force=force, option="out_dir")
     paths = {"report": out_dir / "fit.json", "evaluations": out_dir / "evaluations.csv", "plot": out_dir / "fit.png"}
-    paths["report"].write_text(json.dumps(result.as_dict(), indent=2))
+    atomic_write_json(paths["report"], result.as_dict())
     for c in result.curves:
         key = f"computed_{c.name}" if c.name else "computed"
         paths[key] = out_dir / f"{key}.csv"
         with open(paths[key], "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(["time [s]", "value [SI]"])
-            w.writerows((f"{a:.12g}", f"{b:.12g}") for a, b in zip(c.t_computed, c.y_computed))
+            factor = si_factor(c.unit)
+            w.writerow(["t [s]", f"{c.column} [{c.unit or 'SI'}]"])
+            w.writerows((f"{a:.12g}", f"{b / factor:.12g}") for a, b in zip(c.t_computed, c.y_computed))
     with open(paths["evaluations"], "w", newline="") as fh:
         if result.history:
-            w = csv.DictWriter(fh, fieldnames=list(result.history[0]))
-            w.writeheader()
-            w.writerows(result.history)
+            units = dict(zip(result.names, result.units))
+            w = csv.writer(fh)
+            w.writerow([f"{k} [{units[k]}]" if units.get(k) else k for k in result.history[0]])
+            w.writerows([repr(float(v)) for v in row.values()] for row in result.history)
     plot_fit(result, paths["plot"])
     return paths

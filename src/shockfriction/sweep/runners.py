@@ -90,6 +90,29 @@ def detect_kind(deck: dict, source: str) -> str:
                     f"expected kind = one of {known_kinds()} in the sweep file")
 
 
+def anchor_files(deck: dict, folder: Path, source: str, trust: Trust = TRUSTED) -> dict:
+    """``deck`` (a run deck read from ``folder``) with each relative ``bodies[k].mesh.file`` made absolute
+    against ``folder``, so that the deck runs from any working directory and on any worker; each file is
+    checked by the command line's rules (inside ``folder`` unless ``trust.allow_outside``; a ``.geo``
+    only with ``trust.allow_geo``).  Other decks are returned as they are."""
+    from shockfriction.safety import check_geo, resolve_inside
+
+    bodies = deck.get("bodies") if isinstance(deck, dict) else None
+    if not isinstance(bodies, list):
+        return deck
+    out = dict(deck)
+    out["bodies"] = []
+    for k, body in enumerate(bodies):
+        mesh = body.get("mesh") if isinstance(body, dict) else None
+        if isinstance(mesh, dict) and isinstance(mesh.get("file"), str) and mesh["file"]:
+            field = f"bodies[{k}].mesh.file"
+            path = resolve_inside(folder, mesh["file"], field, source, trust)
+            check_geo(mesh["file"], field, source, trust)
+            body = {**body, "mesh": {**mesh, "file": str(Path(path).absolute())}}
+        out["bodies"].append(body)
+    return out
+
+
 def check_deck(kind: str, deck: dict, source: str, model: str | None = None, trust: Trust = TRUSTED) -> None:
     """Validate a deck before any run (DeckError naming field, value and expectation).
 

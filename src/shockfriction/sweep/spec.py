@@ -26,6 +26,7 @@ Example::
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any, Literal
 
@@ -33,7 +34,7 @@ from pydantic import Field, field_validator, model_validator
 
 from shockfriction.deck.base import DeckModel, read_toml, validate
 from shockfriction.errors import DeckError
-from shockfriction.safety import TRUSTED, Trust, resolve_inside
+from shockfriction.safety import MAX_RUNS, TRUSTED, Trust, resolve_inside
 from shockfriction.sweep.paths import parse_path
 from shockfriction.sweep.quantities import in_unit, split_value
 
@@ -159,6 +160,8 @@ class SweepSpec(DeckModel):
     sample: Sample = Sample()
     parameter: list[Parameter] = Field(min_length=1)
     keep: Keep = Keep()
+    max_runs: int = Field(default=MAX_RUNS, ge=1, description="largest number of runs (grid product or "
+                          "sample.n), checked before any run is planned; raise it for a larger sweep")
 
     @field_validator("set")
     @classmethod
@@ -179,6 +182,13 @@ class SweepSpec(DeckModel):
             fail(f"model = {self.model!r}: expected no model with kind = {self.kind!r} (model is for kind = 'python')")
         if self.kind != "python" and not self.model and not self.base:
             fail("base is missing: expected base = 'deck.toml' (the deck to vary, relative to the sweep file)")
+        n_runs = self.count_runs()
+        if n_runs > self.max_runs:
+            how = ("sample.n" if self.sample.method == "lhs" else
+                   "the grid: " + " x ".join(str(len(p.values) if p.values is not None else p.n or 1)
+                                            for p in self.parameter))
+            fail(f"{n_runs:.3g} runs ({how}): expected at most max_runs = {self.max_runs:,} (raise max_runs in "
+                 "the sweep file for a larger sweep)")
         cols = [p.column for p in self.parameter]
         dup = sorted({c for c in cols if cols.count(c) > 1})
         if dup:
@@ -195,6 +205,12 @@ class SweepSpec(DeckModel):
     @property
     def effective_kind(self) -> str | None:
         return "python" if self.model else self.kind
+
+    def count_runs(self) -> int:
+        """The number of runs, computed from the counts (nothing allocated)."""
+        if self.sample.method == "lhs":
+            return int(self.sample.n or 0)
+        return math.prod(len(p.values) if p.values is not None else (p.n or 1) for p in self.parameter)
 
 
 def flatten(table: dict, prefix: str = "") -> dict[str, Any]:

@@ -8,14 +8,14 @@ mode the table gives the generated flux and the column receives beta_T times it.
 
 Outputs (written row by row and flushed, so that a run that fails leaves readable files):
 
-* ``history.csv``: ``t_s,theta_interface_K,tau_Pa,slip_macro_mps,slip_local_mps,flux_Wm2,iterations``
-  at the end of every step; ``flux_Wm2`` is the flux entering the column (beta_T tau [v]);
-  tau and the slips are ``nan`` in the pure thermal mode.  The viscoplastic model adds ``film_thickness_m``
+* ``history.csv``: ``t [s],theta_interface [K],tau [Pa],slip_macro [m/s],slip_local [m/s],flux [W/m^2],iterations``
+  at the end of every step; ``flux`` is the flux entering the column (beta_T tau [v]);
+  tau and the slips are ``nan`` in the pure thermal mode.  The viscoplastic model adds ``film_thickness [m]``
   and ``substeps``: a step whose Picard iteration does not converge is redone as 2, 4, ... sub-steps
   (``substeps`` > 1; tau, slips and flux are then the step's means, ``iterations`` the sweeps of all
   sub-steps); ``iterations`` < 0: a sub-step of dt/16 still reached the Picard sweep limit and was kept
   (its energy balance is exact);
-* ``profiles.csv``: ``t_s,z_m,theta_K,eps_p`` in long form at the output times (and t = 0).
+* ``profiles.csv``: ``t [s],z [m],theta [K],eps_p [-]`` in long form at the output times (and t = 0).
 
 With several loadings (columns) the first writes these names and loading ``k`` writes
 ``history_<name>.csv`` / ``profiles_<name>.csv`` (name defaults to ``column<k>``).
@@ -35,8 +35,8 @@ from shockfriction.friction.subgrid.column import ThermalColumns
 from shockfriction.friction.subgrid.interface import SubgridInterface
 from shockfriction.materials.library import get_material, heat_share
 
-HISTORY_HEADER = "t_s,theta_interface_K,tau_Pa,slip_macro_mps,slip_local_mps,flux_Wm2,iterations"
-PROFILE_HEADER = "t_s,z_m,theta_K,eps_p"
+HISTORY_HEADER = "t [s],theta_interface [K],tau [Pa],slip_macro [m/s],slip_local [m/s],flux [W/m^2],iterations"
+PROFILE_HEADER = "t [s],z [m],theta [K],eps_p [-]"
 FLUSH_EVERY = 200
 
 
@@ -91,10 +91,12 @@ def _file(out: Path, stem: str, k: int, names: list[str]) -> Path:
     return out / (f"{stem}.csv" if k == 0 else f"{stem}_{names[k]}.csv")
 
 
-def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
-    """Run a validated :class:`~shockfriction.deck.subgrid.SubgridDeck`; write the CSV files in ``out_dir``."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+def run_subgrid(deck, out_dir: Path, source: str = "deck", force: bool = False) -> RunResult:
+    """Run a validated :class:`~shockfriction.deck.subgrid.SubgridDeck`; write the CSV files in ``out_dir``
+    (new or empty; a non-empty folder is refused unless ``force``, as on the command line)."""
+    from shockfriction.io.outdir import prepare_out_dir
+
+    out = prepare_out_dir(out_dir, force=force, option="out_dir")
     names = _names(deck)
     n = len(deck.loading)
     mat = get_material(deck.material)
@@ -137,7 +139,7 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
             res.film = np.zeros((nsteps, n))
             res.substeps = np.ones((nsteps, n), dtype=np.int64)
         for fh in hist:
-            fh.write(HISTORY_HEADER + (",film_thickness_m,substeps" if film else "") + "\n")
+            fh.write(HISTORY_HEADER + (",film_thickness [m],substeps" if film else "") + "\n")
         for fh in prof:
             fh.write(PROFILE_HEADER + "\n")
         eps0 = np.zeros((n, z.size))
@@ -163,6 +165,8 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
                 tau, _ = sg.step(sigma[i], slip[i], slip[i], np.inf, np.inf, 1.0, dt, cycle=i + 1, time=ends[i])
                 theta_s = sg.theta_interface
                 slip_m, slip_l, q_in, iters = sg.slip_macro, sg.slip_local, sg.flux_in, sg.iterations
+            _check_finite(source, names, i + 1, ends[i], thermal, theta_interface=theta_s, flux_in=q_in,
+                          tau=tau, slip_macro=slip_m, slip_local=slip_l)
             res.theta_interface[i] = theta_s
             res.tau[i] = tau
             res.flux_in[i] = q_in
@@ -187,6 +191,19 @@ def run_subgrid(deck, out_dir: Path, source: str = "deck") -> RunResult:
         for fh in hist + prof:
             fh.close()
     return res
+
+
+def _check_finite(source: str, names: list[str], step: int, t: float, thermal: bool, **values) -> None:
+    """SimulationError naming the column, quantity, step and time of the first non-finite value of a step
+    (the pure thermal mode has no tau and slips: those are nan by design and not checked)."""
+    for what, v in values.items():
+        if thermal and what in ("tau", "slip_macro", "slip_local"):
+            continue
+        bad = ~np.isfinite(np.asarray(v, dtype=float))
+        if bad.any():
+            j = int(np.argmax(bad))
+            raise SimulationError(f"{source}: column {names[j]!r}: {what} became non-finite ({float(v[j])!r}) at "
+                                  f"step {step}, t = {t:.6e} s")
 
 
 def _write_profiles(files, res: RunResult, t: float, z, theta, eps) -> None:
