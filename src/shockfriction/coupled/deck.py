@@ -59,8 +59,8 @@ class SubgridFrictionOptions(BaseModel):
     pressure_melting: bool = Field(
         True, description="subgrid-viscoplastic only: melting temperature T_m(sigma_n) by the SCG melt law "
                           "and the melt viscosity's pressure factor (false: the ambient T_F and eta_L)")
-    closure: Literal["excess", "shear", "held"] = Field(
-        "excess", description="subgrid-viscoplastic only: the column's far end moves with the hydro's shear of "
+    closure: Literal["shear", "held"] = Field(
+        "shear", description="subgrid-viscoplastic only: the column's far end moves with the hydro's shear of "
                              "the layer ('shear': the column adds only what departs from its cell's homogeneous "
                              "shear) or is held at the node ('held': version 0.3, depends on the thickness)")
 

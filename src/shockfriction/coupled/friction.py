@@ -55,7 +55,7 @@ BRANCHES = ("coulomb_cap", "sticking_cap", "subgrid")
 # hydro's own shear of the layer gives it at depth h ("shear" closure) or at the node's ("held", version 0.3)
 # (docs/theory/viscoplastic.md, "Coupled closure")
 COUPLED_VISCOPLASTIC = {"far_end": "held"}
-CLOSURES = ("excess", "shear", "held")
+CLOSURES = ("shear", "held")
 
 
 class SubgridFriction:
@@ -71,7 +71,7 @@ class SubgridFriction:
                  thickness: float = 20e-6, cells: int = 500, grading: float = 1.0, taylor_quinney: float = 0.9,
                  T0: float = 300.0, bilateral: bool = False, profile_nodes=None, profile_interval: float = 0.0,
                  modelled_body: str = "slave", trace: bool = False, picard_tol: float | None = None,
-                 pressure_melting: bool = True, closure: str = "excess", state=None):
+                 pressure_melting: bool = True, closure: str = "shear", state=None):
         self.name = name
         self.model = model
         self.modelled_body = modelled_body
@@ -82,8 +82,7 @@ class SubgridFriction:
         self.columns = SubgridInterface(n_nodes, material, other, thickness=thickness, n_cells=cells,
                                         grading=grading, model=model, mu0=mu0, f=f, taylor_quinney=taylor_quinney,
                                         T0=T0, viscoplastic={**COUPLED_VISCOPLASTIC, "picard_tol": picard_tol,
-                                                             "pressure_melting": pressure_melting,
-                                                             "far_end": "excess" if closure == "excess" else "held"}
+                                                             "pressure_melting": pressure_melting}
                                         if model == "viscoplastic" else None)
         self._vp_before = np.zeros((6, n_nodes))  # viscoplastic column energies before a step (see _vp_books)
         self.bilateral = bool(bilateral)

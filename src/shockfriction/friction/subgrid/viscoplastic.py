@@ -70,14 +70,11 @@ MAX_SPLIT = 4
 PICARD_TOL = 1e-6
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
- P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R, P_MAX_NEWTON, P_EXCESS) = range(20)
-N_PAR = 20
+ P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R, P_MAX_NEWTON) = range(19)
+N_PAR = 19
 #: iterations of the mechanics Newton in one Picard sweep (a column that needs more fails its step, which is then
 #: redone in sub-steps)
 MAX_NEWTON = 200
-#: the line search starts at this Newton iteration (the first full steps converge on smooth problems; the search is
-#: for the cycling between plastic and elastic cells)
-LS_FROM = 3
 #: gas constant (J/mol/K), for the melt viscosity's activation volume
 R_GAS = 8.314462618
 # energy accumulators per column (J/m^2), rows of the ``energy`` array
@@ -245,10 +242,6 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     inertia = par[P_INERTIA] > 0.5
     held = math.isinf(par[P_Z])  # far end held (at v_far) also with inertia (far_end = "held")
     imped = inertia and not held  # impedance far end
-    # far_end = "excess": the node follows the column's homogeneous extrapolation from its deepest cell,
-    # v(h) + h (v_{M-1} - v_M)/dz_{M-1} = 0, so only shear in excess of the deepest cell's adds slip
-    excess = par[P_EXCESS] > 0.5
-    r_ex = z[nn - 1] / dz[nn - 2]
     th = 1.0  # backward Euler (L-stable: no ringing at c_s dt/dz >> 1); its dissipation is turned into heat
     T_far = par[P_T_FAR]  # nan: insulated far end
     fixed_far = math.isfinite(T_far)
@@ -417,10 +410,6 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                         lo[M, j] = -Kc[M - 1, j]
                         di[M, j] = mass[M] / dt + Kc[M - 1, j] + th * Zc[j]
                         rhs[M, j] = -(mass[M] * (vn[M, j] - v[M, j]) / dt - S[M, j] + S[nn, j])
-                    elif excess and held:
-                        lo[M, j] = r_ex
-                        di[M, j] = 1.0 - r_ex
-                        rhs[M, j] = -(di[M, j] * vn[M, j] + r_ex * vn[M - 1, j])
                     else:  # held at the hydro's velocity there (v_far), or at rest (quasi-static)
                         lo[M, j] = 0.0
                         di[M, j] = 1.0
@@ -429,7 +418,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
             # line search on the slope g(a) = d . R(vn + a d), increasing in a (convexity): a = 1 unless it
             # overshoots the minimum along d (g(1) > |g(0)|/4), then regula falsi (Illinois) on g
             for j in range(nc):
-                if act[j] and it >= LS_FROM:
+                if act[j]:
                     ls_g0[j] = _slope(j, vn, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], imped, Zc[j])
                     ls_a[j] = 1.0
                     ls_lo[j] = 0.0
@@ -441,7 +430,7 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
                     if act[j]:
                         vt[i, j] = vn[i, j] + rhs[i, j]
             _cell_pass(v, vt, act, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S, Kc)
-            for ls in range(12 if it >= LS_FROM else 0):
+            for ls in range(12):
                 more = False
                 for j in range(nc):
                     lsm[j] = False
@@ -1039,9 +1028,8 @@ class ViscoplasticColumns:
         self.par[[P_RHO, P_C, P_KAPPA, P_L, P_T0]] = rho, m.heat_capacity, m.conductivity, L, T0
         self.par[[P_ETA_VP, P_ETA_F, P_E_R]] = self.eta_vp, eta_F, E_R
         self.par[[P_BETA_T, P_BETA_Q, P_F]] = beta_T, taylor_quinney, (-1.0 if f is None else float(f))
-        if far_end not in ("impedance", "held", "excess"):
-            raise ValueError(f"far_end must be 'impedance', 'held' or 'excess', got {far_end!r}")
-        self.par[P_EXCESS] = 1.0 if far_end == "excess" else 0.0
+        if far_end not in ("impedance", "held"):
+            raise ValueError(f"far_end must be 'impedance' or 'held', got {far_end!r}")
         self.par[P_Z] = rho * m.shear_wave_speed if far_end == "impedance" else math.inf
         self.par[P_INERTIA] = 1.0 if inertia else 0.0
         self.par[P_T_FAR] = math.nan if far_temperature is None else float(far_temperature)
