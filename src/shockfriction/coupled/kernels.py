@@ -154,7 +154,8 @@ def layer_shear_velocity(x, y, vx, vy, conn, cell_a, cell_b, tx, ty, nx, ny, act
     """v_far[j] = -2 (t . D . n) h: the velocity, relative to node j and in its column's sense (the column's v is
     -t . (u - u_node)), that the hydro's own shear of the layer gives its far end at depth h, D the symmetric part
     of L = grad u averaged over the cells cell_a[j], cell_b[j] (-1: none) next to the node (the spin is left out: a
-    rigid rotation does not shear the layer), n the contact normal (pointing into the slave body), t the tangent.  The gradient of each quadrilateral is the mean gradient of its bilinear field,
+    rigid rotation does not shear the layer), n the contact normal (pointing into the slave body), t the tangent.
+    The gradient of each quadrilateral is the mean gradient of its bilinear field,
     du/dx = ((u3 - u1)(y4 - y2) - (u4 - u2)(y3 - y1))/(2A), du/dy = ((u4 - u2)(x3 - x1) - (u3 - u1)(x4 - x2))/(2A),
     2A = (x3 - x1)(y4 - y2) - (x4 - x2)(y3 - y1) (either orientation).  Inactive nodes get 0."""
     for j in range(v_far.shape[0]):
