@@ -9,7 +9,7 @@ import pytest
 from shockfriction.hydro import kernels as K
 from shockfriction.hydro.api import prepare
 from shockfriction.hydro.cycle import _wavefront
-from shockfriction.hydro.partition import cell_bounds, make_partition
+from shockfriction.hydro.partition import cell_bounds, make_partition, partition_count
 
 N = 60  # 3600 cells: two blocks of the update, the second one partial
 assert K.UPDATE_BLOCK < N * N < 2 * K.UPDATE_BLOCK
@@ -219,3 +219,12 @@ def test_partition_of_a_hand_mesh():
     j = part.bnodes.tolist().index(5)
     assert part.bcorn[part.bptr[j]:part.bptr[j + 1]].tolist() == [2, 7, 13, 16]
     assert part.bptr[-1] == part.bptr[-2]  # node 12: no corner
+
+
+def test_partition_count_is_a_whole_number_per_thread():
+    assert partition_count(1, 10) == 1 and partition_count(2, 10) == 2  # small meshes: one per thread
+    assert partition_count(2, 40_000) == 8 and partition_count(16, 640_000) == 64  # four per thread
+    assert partition_count(16, 40_000) == 16  # 19 would leave three threads a second round
+    for threads in range(1, 20):
+        for cells in (100, 5_000, 40_000, 70_000, 640_000):
+            assert partition_count(threads, cells) % threads == 0

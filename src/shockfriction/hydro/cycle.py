@@ -44,13 +44,14 @@ import math
 import time as _time
 from typing import Callable, Protocol
 
+import numba
 import numpy as np
 
 from shockfriction import threading_policy
 from shockfriction.errors import SimulationError
 from shockfriction.hydro import kernels as K
 from shockfriction.hydro.guards import RunGuards
-from shockfriction.hydro.partition import make_partition
+from shockfriction.hydro.partition import make_partition, partition_count
 from shockfriction.hydro.setup import Problem
 
 
@@ -152,14 +153,14 @@ class Simulation:
         self._scratch = (np.empty((11, width)), np.empty((s.props.shape[0], K.N_MREC)), self._sums[2])
         self._errcell = np.zeros(nc, dtype=np.int64)
         # the force pass's scratch (in a tuple: no checkpoint keeps it): the serial kernel's block scratch, and the
-        # parallel kernels' partition of the mesh (hydro/partition.py, a partition per thread) with a scratch per
-        # partition: force blocks, update blocks and reciprocals, the border nodes' corner forces, each partition's
-        # step and bad cell (a parallel run also keeps the serial scratch: its governor runs the serial kernels
-        # when one thread is faster)
+        # parallel kernels' partition of the mesh (hydro/partition.py, up to 4 partitions per thread) with a
+        # scratch per partition: force blocks, update blocks and reciprocals, the border nodes' corner forces, each
+        # partition's step and bad cell (a parallel run also keeps the serial scratch: its governor runs the serial
+        # kernels when one thread is faster)
         self._force_scratch = (np.zeros(K.FORCE_SCRATCH), None)
         if self.parallel:
             threading_policy.use_threads(self.threads)
-            part = make_partition(s.conn, nn, self.threads)
+            part = make_partition(s.conn, nn, partition_count(self.threads, nc))
             npart = part.parts
             self.partition = part
             self._force_scratch = (self._force_scratch[0], (
@@ -269,8 +270,9 @@ class Simulation:
                 s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
                 self.shear_visc, *self.shear_visc_args)
         if self.parallel:  # the same sums as the serial pass, whatever the thread count (kernels, "Sums")
-            return K.forces_parallel(*args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e, s.e_el,
-                                     s.cell_mass, want_ie, *self._partition_args())
+            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
+                return K.forces_parallel(*args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e, s.e_el,
+                                         s.cell_mass, want_ie, *self._partition_args())
         return K.cell_forces_serial(*args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass,
                                     want_ie)
 
@@ -396,15 +398,16 @@ class Simulation:
         record = s.cycle % self.probe_every == 0
         self._heat_in_update = True
         if self.parallel:
-            ie, wbc, ke, dtn, bad, code, qv = K.cycle_parallel(
-                s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
-                s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
-                self.shear_visc, *self.shear_visc_args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e,
-                s.e_el, s.cell_mass, record, *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
-                self._vy_pre, s.mass_own, *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons,
-                self._jx_bc_prev, self._jy_bc_prev, dt, self._x_half, self._y_half, s.mat, s.props, s.isentrope,
-                s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl, self.dvmax, s.damage,
-                *self._par_update[:2], self._sums, *self._partition_args()[:-1], *self._par_update[4:])
+            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
+                ie, wbc, ke, dtn, bad, code, qv = K.cycle_parallel(
+                    s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+                    s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
+                    self.shear_visc, *self.shear_visc_args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e,
+                    s.e_el, s.cell_mass, record, *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
+                    self._vy_pre, s.mass_own, *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons,
+                    self._jx_bc_prev, self._jy_bc_prev, dt, self._x_half, self._y_half, s.mat, s.props, s.isentrope,
+                    s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl, self.dvmax, s.damage,
+                    *self._par_update[:2], self._sums, *self._partition_args()[:-1], *self._par_update[4:])
             self._after_fused(record, dt, dtn, bad, code, qv, ie, wbc, ke)
             return
         ie, wbc, ke, dtn, bad, code, qv = K.cycle_serial(
@@ -465,7 +468,8 @@ class Simulation:
                 self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
                 self._vx_old, self._vy_old, s.dt_velocity)
         if self.parallel:
-            dtn, bad, code, qv = K.update_parallel(*args, *self._par_update)
+            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
+                dtn, bad, code, qv = K.update_parallel(*args, *self._par_update)
         else:
             args = args + self._scratch
             dtn, bad, code, qv = K.advance_serial(*args)

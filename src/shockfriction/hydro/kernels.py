@@ -2,26 +2,24 @@
 two passes over the cells and two over the nodes, one over the nodes in the serial cycle without
 interfaces (docs/theory/fused-cycle.md).
 
-* :func:`cell_forces_serial` / :func:`cell_forces_parallel` (the force pass): nodal forces
-  F^n from the cell stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the
-  velocity-dependent forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge
-  viscosity, optional shear viscosity), :func:`cell_corner_forces` per cell; serial: per block
-  of cells, a loop vectorized across the cells, then summed into the nodes in cell order;
-  parallel: the same blocks, in parallel, summed by :func:`gather_forces` (race-free); the velocity-dependent
-  part is kept per
-  corner for the viscous heat, the kinetic energy those forces remove over the step, put
-  into the cells by :func:`viscous_cell_heat` (in the cell update, or in
-  :func:`viscous_heat_serial` / ``_parallel`` on the cycles that write a history row).
+* :func:`cell_forces_serial` (the force pass): nodal forces F^n from the cell stress
+  sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the velocity-dependent forces on v^{n-1/2}
+  (Flanagan-Belytschko hourglass, optional edge viscosity, optional shear viscosity),
+  :func:`cell_corner_forces` per cell; per block of cells, a loop vectorized across the cells,
+  then summed into the nodes in cell order; the velocity-dependent part is kept per corner for the
+  viscous heat, the kinetic energy those forces remove over the step, put into the cells by
+  :func:`viscous_cell_heat` (in the cell update, or in :func:`viscous_heat_serial` /
+  ``_parallel`` on the cycles that write a history row).
 * :func:`sum_groups` / :func:`sync_groups`: node groups (ties, periodic sides).
 * :func:`advance_velocities`: v* = v^{n-1/2} + dt F/m.
 * :func:`apply_constraints`: v <- v - (v.n - value) n per constraint.
 * :func:`impulse_work`: the kinetic energy that velocity jumps (constraints,
   interfaces) put into the leapfrog kinetic energy.
 * :func:`move_nodes`: x^{n+1} = x^n + dt v^{n+1/2}.
-* :func:`update_cells_serial` / :func:`update_cells_parallel` (the cell pass): per cell,
-  volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
-  artificial viscosity q^{n+1/2}, energy update with the EOS, spall, temperature, moduli,
-  sound speed and the cell's stable time step, reduced to the step of the cycle.
+* :func:`update_cells_serial` (the cell pass): per cell, volume and density at n+1, strain rate at
+  x^{n+1/2}, Jaumann rotation + radial return, artificial viscosity q^{n+1/2}, energy update with
+  the EOS, spall, temperature, moduli, sound speed and the cell's stable time step, reduced to the
+  step of the cycle.
 * :func:`velocities_serial` (steps 1-3 without interfaces), :func:`advance_serial` (positions and
   cells), :func:`cycle_serial` (both): the serial kernels above in fewer calls; :func:`cycle_serial`
   runs them over ranges (:func:`forces_of_cells`, :func:`advance_nodes`, :func:`update_blocks`), as a
@@ -29,14 +27,20 @@ interfaces (docs/theory/fused-cycle.md).
   with the bulk q (``axi`` and ``qedge`` false) they pass both flags as the constant False: numba
   types a constant argument as a literal and compiles that case apart, so LLVM drops the dead
   axisymmetric and edge-viscosity code (and the copies its branches cost), the same arithmetic.
+* The parallel kernels (end of the module; docs/theory/threads.md): the serial kernels' blocks on
+  partitions of the mesh (hydro/partition.py), a contiguous range of cells per thread:
+  :func:`forces_parallel` (own nodes summed in place, border nodes from their stored corners in cell
+  order), :func:`nodes_parallel`, :func:`update_parallel`, in one call :func:`cycle_parallel`; and
+  parallel twins of the node kernels (``*_parallel``).
 
-The serial and parallel variants are the same Python function compiled twice
-(``prange`` is ``range`` without ``parallel=True``), except the force pass, whose two kernels
-share its blocks (:func:`_gather_block`, :func:`_forces_of_block`, the vectorized :func:`_force_block` over the
-per-cell :func:`cell_corner_forces`) and differ in how the forces reach the nodes; per-cell helpers take and return
-scalars only (no array arguments: no reference counting in the inner loops) and are inlined
-(``inline="always"``); the serial kernels are compiled without reference counting.
-Every kernel takes plain arrays and floats; sign convention: compression positive.
+**Sums.** The history sums (internal energy, kinetic energy, viscous heat, impulse and projection
+work) add their terms per chunk of ``SUM_CHUNK`` = 64 cells or nodes (or entries of a node list), then
+the chunks' sums in chunk order from 0.0, in every kernel: a partition is a whole number of chunks, so
+any number of threads gives the serial kernels' bytes.
+
+Per-cell helpers take and return scalars only (no array arguments: no reference counting in the inner
+loops) and are inlined (``inline="always"``); the serial kernels are compiled without reference
+counting.  Every kernel takes plain arrays and floats; sign convention: compression positive.
 """
 
 from __future__ import annotations
@@ -1370,8 +1374,8 @@ def forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld
     """:func:`forces_of_cells` over the cells start .. stop - 1 of one partition (``start`` a multiple of
     SUM_CHUNK), a row of ``vcorner`` per cell: a corner's force is added into its node when the node is the
     partition's own (``border[n] == 0``), else stored in ``bcorner[c, k], bcorner[c, 4 + k]`` for
-    :func:`sum_border_nodes`.  With ``want_ie`` the internal energy of each chunk of SUM_CHUNK cells goes to
-    ``iparts[chunk]``."""
+    :func:`forces_parallel`'s border loop.  With ``want_ie`` the internal energy of each chunk of SUM_CHUNK cells
+    goes to ``iparts[chunk]``."""
     B = FORCE_BLOCK
     nodal = corner[:16 * B]
     out = corner[16 * B:32 * B]
@@ -1419,17 +1423,19 @@ def forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld
         forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
                         scl, scq, elastic_only, blocks[i], vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds[i],
                         cbounds[i + 1], border, bcorner, iparts)
-    for j in prange(bnodes.shape[0]):
-        sx = 0.0
-        sy = 0.0
-        for k in range(bptr[j], bptr[j + 1]):
-            cc = bcorn[k] >> 2
-            kk = bcorn[k] & 3
-            sx += bcorner[cc, kk]
-            sy += bcorner[cc, 4 + kk]
-        n = bnodes[j]
-        fx[n] = sx
-        fy[n] = sy
+    nb = bnodes.shape[0]
+    for i in prange(npart):  # the border nodes in as many groups as partitions
+        for j in range(i * nb // npart, (i + 1) * nb // npart):
+            sx = 0.0
+            sy = 0.0
+            for k in range(bptr[j], bptr[j + 1]):
+                cc = bcorn[k] >> 2
+                kk = bcorn[k] & 3
+                sx += bcorner[cc, kk]
+                sy += bcorner[cc, 4 + kk]
+            n = bnodes[j]
+            fx[n] = sx
+            fy[n] = sy
     if want_ie:
         return chunk_total(iparts, (conn.shape[0] + SUM_CHUNK - 1) >> SUM_SHIFT)
     return 0.0
@@ -1498,19 +1504,20 @@ def update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass
 
 @njit(cache=True, parallel=True)
 def nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
-                   bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, kparts):
-    """:func:`advance_nodes` over all nodes, chunks of SUM_CHUNK nodes in parallel (each chunk's kinetic energy
-    sum into ``kparts``).  Returns the leapfrog kinetic energy at t^n when ``record`` (else 0), summed as the
-    serial kernels do."""
+                   bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, kparts, groups):
+    """:func:`advance_nodes` over all nodes, ``groups`` runs of whole chunks of SUM_CHUNK nodes in parallel (each
+    chunk's kinetic energy sum into ``kparts``).  Returns the leapfrog kinetic energy at t^n when ``record`` (else
+    0), summed as the serial kernels do."""
     nn = vx.shape[0]
     nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
-    for i in prange(nch):
-        n0 = i << SUM_SHIFT
-        kb = np.searchsorted(bc_nodes, n0)
-        _, part, _ = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval,
-                                   bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, n0,
-                                   min(n0 + SUM_CHUNK, nn), kb, 0.0, 0.0)
-        kparts[i] = part
+    for g in prange(groups):
+        for i in range(g * nch // groups, (g + 1) * nch // groups):
+            n0 = i << SUM_SHIFT
+            kb = np.searchsorted(bc_nodes, n0)
+            _, part, _ = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny,
+                                       cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, n0,
+                                       min(n0 + SUM_CHUNK, nn), kb, 0.0, 0.0)
+            kparts[i] = part
     if record:
         return 0.5 * chunk_total(kparts, nch)
     return 0.0
@@ -1561,7 +1568,7 @@ def cycle_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld,
     if grp_ptr.shape[0] > 1:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
     ke = nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
-                        bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, sums[1])
+                        bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, sums[1], cbounds.shape[0] - 1)
     dtmin, bad, code, qv = update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e,
                                            e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl,
                                            cfl, dvmax, dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old,

@@ -42,6 +42,21 @@ class Partition:
         return (self.cbounds, self.pnode_ptr, self.pnodes, self.border)
 
 
+#: partitions per thread (at most): handed out to the threads one at a time, so that a thread whose cells cost more
+#: (a plastic zone, a shock front) takes fewer of them
+PARTS_PER_THREAD = 4
+#: cells per partition below which fewer partitions per thread are made (each cut adds border nodes)
+MIN_PART_CELLS = 2048
+
+
+def partition_count(threads: int, n_cells: int) -> int:
+    """Partitions for ``threads`` threads on ``n_cells`` cells: a whole number k of partitions per thread (so that
+    no thread is left with one more than the others), k = PARTS_PER_THREAD where each partition keeps
+    MIN_PART_CELLS cells, fewer on a smaller mesh, at least 1."""
+    threads = max(int(threads), 1)
+    return threads * max(1, min(PARTS_PER_THREAD, n_cells // (MIN_PART_CELLS * threads)))
+
+
 def cell_bounds(n_cells: int, parts: int, chunk: int = SUM_CHUNK) -> np.ndarray:
     """``parts`` + 1 increasing cell bounds, 0 and ``n_cells`` at the ends, the others multiples of ``chunk``,
     the ranges as equal as the chunks allow (an empty range where there are fewer chunks than parts)."""
