@@ -118,9 +118,8 @@ class ThreadGovernor:
         if threads != self.current:
             if sim is None:  # no simulation to switch: the parallel kernels on this many threads
                 numba.set_num_threads(threads)
-            else:  # one thread: the serial kernels (faster than the parallel ones on one)
-                if threads > 1:
-                    numba.set_num_threads(threads)
+            else:  # one thread: the serial kernels (faster than the parallel ones on one), and one numba thread
+                numba.set_num_threads(threads)  # for the kernels that choose by it (the sub-grid column solves)
                 sim.use_parallel(threads > 1)
             self.current = threads
 

@@ -8,7 +8,8 @@ import pytest
 
 from shockfriction.hydro import kernels as K
 from shockfriction.hydro.api import prepare
-from shockfriction.hydro.cycle import _node_corner_csr, _wavefront
+from shockfriction.hydro.cycle import _wavefront
+from shockfriction.hydro.partition import cell_bounds, make_partition, partition_count
 
 N = 60  # 3600 cells: two blocks of the update, the second one partial
 assert K.UPDATE_BLOCK < N * N < 2 * K.UPDATE_BLOCK
@@ -151,8 +152,11 @@ def test_update_blocks_match_one_call(broken):
         s.e[bad_cell] = np.nan
     one = [a.copy() if isinstance(a, np.ndarray) else a for a in update_args(sim)]
     blocks = [a.copy() if isinstance(a, np.ndarray) else a for a in update_args(sim)]
-    r_one = K.update_cells_serial(*one, np.empty((11, s.n_cells)), np.empty((s.props.shape[0], K.N_MREC)), 0.0)
-    r_blocks = K.update_serial(*blocks, np.empty((11, K.UPDATE_BLOCK)), np.empty((s.props.shape[0], K.N_MREC)))
+    chunks = s.n_cells // K.SUM_CHUNK + 1
+    r_one = K.update_cells_serial(*one, np.empty((11, s.n_cells)), np.empty((s.props.shape[0], K.N_MREC)), 0.0,
+                                  np.empty(chunks))
+    r_blocks = K.update_serial(*blocks, np.empty((11, K.UPDATE_BLOCK)), np.empty((s.props.shape[0], K.N_MREC)),
+                               np.empty(chunks))
     assert r_one == r_blocks
     if broken is None:
         assert r_one[1] == -1 and r_one[3] > 0.0
@@ -165,12 +169,12 @@ def test_update_blocks_match_one_call(broken):
 
 
 @pytest.mark.parametrize("axi, qedge", [(False, False), (True, False), (False, True), (True, True)])
-def test_parallel_force_blocks_match_the_serial_pass(axi, qedge):
-    """The parallel force pass (blocks of FORCE_BLOCK cells in parallel, a scratch row per thread, corner forces
-    gathered per node) against the serial one (blocks in order, scattered in cell order): the same nodal forces
-    and viscous corner forces, byte for byte, with a partial last block and each flag case."""
-    import numba
-
+@pytest.mark.parametrize("parts", [1, 2, 3, 7])
+def test_partitioned_force_pass_matches_the_serial_pass(axi, qedge, parts):
+    """The parallel force pass (partitions of whole SUM_CHUNKs, each one's own nodes summed in place, the border
+    nodes from their stored corners in cell order) against the serial one (blocks in order, scattered in cell
+    order): the same nodal forces, viscous corner forces and internal energy, byte for byte, with a partial last
+    block, uneven partitions and each flag case."""
     sim = prepare(block_deck(False), threads=1)
     for _ in range(10):
         sim.step()
@@ -182,14 +186,45 @@ def test_parallel_force_blocks_match_the_serial_pass(axi, qedge):
     args = [s.conn, s.x, s.y, vx, vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed, s.shear_modulus,
             s.yield_stress, axi, sim.hg, qedge, sim.cq, sim.cl, sim.shear_visc, *sim.shear_visc_args]
     fx, fy, vc_serial = np.empty(nn), np.empty(nn), np.empty((nc, 8))
-    K.cell_forces_serial(*args, np.zeros(K.FORCE_SCRATCH), vc_serial, fx, fy, s.e, s.e_el, s.cell_mass, False)
-    corner = np.zeros((nc, 8))
-    blocks = np.zeros((numba.config.NUMBA_NUM_THREADS, K.FORCE_SCRATCH))
-    vc_parallel = np.empty((nc, 8))
-    K.cell_forces_parallel(*args, (corner, blocks), vc_parallel, fx, fy, s.e, s.e_el, s.cell_mass, False)
-    gx, gy = np.empty(nn), np.empty(nn)
-    node_ptr, node_corner = _node_corner_csr(s.conn, nn)
-    K.gather_forces(corner, node_ptr, node_corner, gx, gy)
+    ie = K.cell_forces_serial(*args, np.zeros(K.FORCE_SCRATCH), vc_serial, fx, fy, s.e, s.e_el, s.cell_mass, True)
+    part = make_partition(s.conn, nn, parts)
+    gx, gy, vc_parallel = np.full(nn, np.nan), np.full(nn, np.nan), np.empty((nc, 8))
+    ie_p = K.forces_parallel(*args, np.zeros((parts, K.FORCE_SCRATCH)), vc_parallel, gx, gy, s.e, s.e_el,
+                             s.cell_mass, True, *part.arrays(), np.zeros((nc, 8)), part.bnodes, part.bptr, part.bcorn,
+                             np.zeros(nc // K.SUM_CHUNK + 1))
     assert np.array_equal(vc_parallel, vc_serial)
     assert np.array_equal(gx, fx) and np.array_equal(gy, fy)
+    assert ie_p == ie
     assert np.abs(vc_serial).max() > 0.0
+
+
+def test_partition_of_a_hand_mesh():
+    """Two rows of three cells, numbered by hand, cut in two: the border nodes are those of both rows, summed from
+    their corners in cell order; a node of no cell is a border node (force 0)."""
+    #  8   9  10  11
+    #  4   5   6   7      12 (no cell)
+    #  0   1   2   3
+    conn = np.array([[0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [4, 5, 9, 8], [5, 6, 10, 9], [6, 7, 11, 10]])
+    part = make_partition(conn, 13, 2)
+    assert part.cbounds.tolist() == [0, 0, 6]  # whole chunks of SUM_CHUNK cells: the first partition is empty
+    bounds = cell_bounds(10 * K.SUM_CHUNK + 5, 4)
+    assert bounds.tolist() == [0, 2 * K.SUM_CHUNK, 5 * K.SUM_CHUNK, 8 * K.SUM_CHUNK, 10 * K.SUM_CHUNK + 5]
+    # cut the six cells after the third
+    part = make_partition(conn, 13, 2, cbounds=np.array([0, 3, 6]))
+    assert part.bnodes.tolist() == [4, 5, 6, 7, 12]
+    assert part.border.tolist() == [0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 0, 0, 1]
+    assert part.pnodes[part.pnode_ptr[0]:part.pnode_ptr[1]].tolist() == [0, 1, 2, 3]
+    assert part.pnodes[part.pnode_ptr[1]:part.pnode_ptr[2]].tolist() == [8, 9, 10, 11]
+    # node 5: corner 2 of cell 0, 3 of cell 1, 1 of cell 3, 0 of cell 4, in that (cell) order
+    j = part.bnodes.tolist().index(5)
+    assert part.bcorn[part.bptr[j]:part.bptr[j + 1]].tolist() == [2, 7, 13, 16]
+    assert part.bptr[-1] == part.bptr[-2]  # node 12: no corner
+
+
+def test_partition_count_is_a_whole_number_per_thread():
+    assert partition_count(1, 10) == 1 and partition_count(2, 10) == 2  # small meshes: one per thread
+    assert partition_count(2, 40_000) == 8 and partition_count(16, 640_000) == 64  # four per thread
+    assert partition_count(16, 40_000) == 16  # 19 would leave three threads a second round
+    for threads in range(1, 20):
+        for cells in (100, 5_000, 40_000, 70_000, 640_000):
+            assert partition_count(threads, cells) % threads == 0

@@ -54,6 +54,7 @@ from shockfriction import threading_policy
 from shockfriction.errors import SimulationError
 from shockfriction.hydro import kernels as K
 from shockfriction.hydro.guards import RunGuards
+from shockfriction.hydro.partition import make_partition, partition_count
 from shockfriction.hydro.setup import Problem
 
 
@@ -97,14 +98,6 @@ def _wavefront(conn: np.ndarray, n_nodes: int, grouped: bool,
         if rows >= nc:
             rows = nc
     return node_wait, cell_wait, zero_wait, rows
-
-
-def _node_corner_csr(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
-    flat = conn.ravel()
-    order = np.argsort(flat, kind="stable")
-    counts = np.bincount(flat, minlength=n_nodes)
-    ptr = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-    return ptr, order.astype(np.int64)
 
 
 class Simulation:
@@ -156,22 +149,32 @@ class Simulation:
         self._all_nodes = np.arange(nn, dtype=np.int64)
         self._bc_nodes = np.unique(problem.constraints.node).astype(np.int64)
         self._finished = False
-        # the force pass's scratch (in a tuple: no checkpoint keeps it, see _scratch): the serial kernel's block
-        # scratch, and the parallel one's corner forces with a block scratch per thread (a parallel run also keeps
-        # the serial scratch: its governor runs the serial kernels when one thread is faster); `_corner` picks one
-        self._force_scratch = (np.zeros(K.FORCE_SCRATCH), (np.zeros((nc, 8)), np.zeros(
-            (numba.config.NUMBA_NUM_THREADS, K.FORCE_SCRATCH))) if self.parallel else None)
         self._vcorner = np.zeros((nc, 8))
         self._dtcell = np.empty(nc)
+        # the chunk sums of the history sums (internal energy, kinetic energy, viscous heat; kernels.SUM_CHUNK)
+        self._sums = np.zeros((3, (max(nc, nn) + K.SUM_CHUNK - 1) // K.SUM_CHUNK + 1))
         # per-cell values handed between the cell update's loops (in a tuple: scratch that no checkpoint keeps;
-        # the serial update goes over blocks of K.UPDATE_BLOCK cells: one block's worth) and the per-material
-        # reciprocals that the update computes first
-        width = nc if self.parallel else max(1, min(nc, K.UPDATE_BLOCK))
-        self._scratch = (np.empty((11, width)), np.empty((s.props.shape[0], K.N_MREC)))
+        # the serial update goes over blocks of K.UPDATE_BLOCK cells: one block's worth), the per-material
+        # reciprocals that the update computes first and the chunk sums of its viscous heat
+        width = max(1, min(nc, K.UPDATE_BLOCK))
+        self._scratch = (np.empty((11, width)), np.empty((s.props.shape[0], K.N_MREC)), self._sums[2])
         self._errcell = np.zeros(nc, dtype=np.int64)
+        # the force pass's scratch (in a tuple: no checkpoint keeps it): the serial kernel's block scratch, and the
+        # parallel kernels' partition of the mesh (hydro/partition.py, up to 4 partitions per thread) with a
+        # scratch per partition: force blocks, update blocks and reciprocals, the border nodes' corner forces, each
+        # partition's step and bad cell (a parallel run also keeps the serial scratch: its governor runs the serial
+        # kernels when one thread is faster)
+        self._force_scratch = (np.zeros(K.FORCE_SCRATCH), None)
         if self.parallel:
             threading_policy.use_threads(self.threads)
-            self._node_ptr, self._node_corner = _node_corner_csr(s.conn, nn)
+            part = make_partition(s.conn, nn, partition_count(self.threads, nc))
+            npart = part.parts
+            self.partition = part
+            self._force_scratch = (self._force_scratch[0], (
+                np.zeros((npart, K.FORCE_SCRATCH)), part.arrays(), np.zeros((nc, 8)), (part.bnodes, part.bptr,
+                                                                                       part.bcorn)))
+            self._par_update = (np.empty((npart, 11 * K.UPDATE_BLOCK)), np.empty((npart, s.props.shape[0], K.N_MREC)),
+                                self._sums[2], part.cbounds, np.empty(npart), np.empty((npart, 2), dtype=np.int64))
         c = problem.constraints
         self._cons = (c.node, c.nx, c.ny, c.value)
         # the constraints of each constrained node (bc_nodes ascending), in list order: for the node pass
@@ -213,10 +216,14 @@ class Simulation:
         self.parallel = bool(parallel)
 
     @property
-    def _corner(self) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
-        """The force pass's scratch for the kernels in use: serial, the block scratch; parallel, (corner forces,
-        a block scratch per thread)."""
-        return self._force_scratch[self.parallel]
+    def _corner(self) -> np.ndarray:
+        """The serial force pass's block scratch."""
+        return self._force_scratch[0]
+
+    def _partition_args(self) -> tuple:
+        """The parallel force pass's arguments after the internal-energy flag: the partition and its scratch."""
+        blocks, (cb, pptr, pnodes, border), bcorner, (bnodes, bptr, bcorn) = self._force_scratch[1]
+        return cb, pptr, pnodes, border, bcorner, bnodes, bptr, bcorn, self._sums[0]
 
     def reinitialize(self) -> None:
         """After editing the initial state by hand at t = 0 (``state.e``, ``vx``, ``vy``, the
@@ -270,18 +277,15 @@ class Simulation:
         pass over the cells (+ a gather over the nodes when parallel); returns the internal
         energy at t^n if ``want_ie`` (else 0)."""
         s = self.state
-        forces = K.cell_forces_parallel if self.parallel else K.cell_forces_serial
-        # the parallel kernel's sum would depend on the thread count (which the governor changes): the
-        # history sums are taken in cell order, as the serial kernel does, so every count writes the same rows
-        ie = forces(s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
-                    s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
-                    self.shear_visc, *self.shear_visc_args, self._corner, self._vcorner, s.fx, s.fy,
-                    s.e, s.e_el, s.cell_mass, want_ie and not self.parallel)
-        if self.parallel:
-            if want_ie:
-                ie = K.internal_energy(s.e, s.e_el, s.cell_mass)
-            K.gather_forces(self._corner[0], self._node_ptr, self._node_corner, s.fx, s.fy)
-        return ie
+        args = (s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+                s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
+                self.shear_visc, *self.shear_visc_args)
+        if self.parallel:  # the same sums as the serial pass, whatever the thread count (kernels, "Sums")
+            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
+                return K.forces_parallel(*args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e, s.e_el,
+                                         s.cell_mass, want_ie, *self._partition_args())
+        return K.cell_forces_serial(*args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass,
+                                    want_ie)
 
     # ------------------------------------------------------------------ one cycle
     def step(self) -> None:
@@ -289,7 +293,7 @@ class Simulation:
         if self._finished:
             raise RuntimeError("this simulation has finished (its velocities are at the final time)")
         dt = self.state.dt
-        if not self._plain_serial or (
+        if self.interfaces or self._int_active or (
                 (self._getters or self.observers) and self.state.cycle % self.probe_every == 0):
             self._velocity_stage(final=False)
             self._advance_stage()
@@ -334,7 +338,8 @@ class Simulation:
                 K.sum_groups(s.fx, s.fy, *self._grp)
             q_before = en.interface_heat
             # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
-            K.advance_velocities(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
+            advance = K.advance_velocities_parallel if self.parallel else K.advance_velocities
+            advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
                                  self._vy_pre, True)
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
             # 4 interfaces
@@ -351,21 +356,21 @@ class Simulation:
                 self._apply_position_shifts()
                 # the interfaces' jumps J = v - v_free; added to _vx_pre (constraint impulses = what the
                 # constraints changed)
-                en.interface_work += K.impulse_work(self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx,
-                                                    s.vy, self._vx_free, self._vy_free, self._jx_int_prev,
-                                                    self._jy_int_prev, True, self._vx_pre, self._vy_pre)
+                en.interface_work += self._impulse_work(
+                    self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, self._vx_free,
+                    self._vy_free, self._jx_int_prev, self._jy_int_prev, True, self._vx_pre, self._vy_pre)
                 K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
             elif self._int_active:  # no jumps this step, the last step's still count
-                en.interface_work += K.impulse_work(self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx,
-                                                    s.vy, s.vx, s.vy, self._jx_int_prev, self._jy_int_prev, False,
-                                                    self._vx_pre, self._vy_pre)
+                en.interface_work += self._impulse_work(
+                    self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, s.vx, s.vy,
+                    self._jx_int_prev, self._jy_int_prev, False, self._vx_pre, self._vy_pre)
             self._int_active = bool(self.interfaces)
             if self._cons[0].shape[0]:
                 # without interfaces (this step and the last) the jumps live on the constrained nodes only
                 nodes = self._all_nodes if (self._int_active or int_prev) else self._bc_nodes
-                en.boundary_work += K.impulse_work(nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy,
-                                                   self._vx_pre, self._vy_pre, self._jx_bc_prev, self._jy_bc_prev,
-                                                   False, self._vx_pre, self._vy_pre)
+                en.boundary_work += self._impulse_work(
+                    nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, self._vx_pre, self._vy_pre,
+                    self._jx_bc_prev, self._jy_bc_prev, False, self._vx_pre, self._vy_pre)
         # heat of the hourglass / edge / shear viscosity forces over this velocity step: in the cell
         # update, unless the history row of this cycle has probes or observers, which must see it in
         # the cells at t^n: then here, before the row (a row without them is completed after the
@@ -377,15 +382,21 @@ class Simulation:
         # heat put into cells during this step counts half at t^n (it is centred there)
         q_int = 0.5 * (q_before + en.interface_heat)
         if ke is None:
-            ke = K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own)
+            if self.parallel:
+                ke = K.kinetic_energy_product_parallel(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own,
+                                                       self._sums[1])
+            else:
+                ke = K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own)
         budget = (en.boundary_work, en.interface_work, q_int, *self._books(heats_before))
         if in_update:
             self._pending_row = (ke, ie, q_int - q_before, budget)
             return
-        heat = K.viscous_heat_parallel if self.parallel else K.viscous_heat_serial
-        qv = heat(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv, s.cell_mass, s.e)
-        if self.parallel:  # the sum in cell order (see _forces)
-            qv = K.viscous_heat_sum(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv)
+        if self.parallel:
+            qv = K.viscous_heat_parallel(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv,
+                                         s.cell_mass, s.e, self._sums[2])
+        else:
+            qv = K.viscous_heat_serial(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv,
+                                       s.cell_mass, s.e)
         self._record(ke, ie + 0.5 * qv + (q_int - q_before), budget)
 
     def _fused_step(self) -> None:
@@ -399,6 +410,19 @@ class Simulation:
         s.dt_velocity = dtv
         record = s.cycle % self.probe_every == 0
         self._heat_in_update = True
+        if self.parallel:
+            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
+                ie, wbc, ke, dtn, bad, code, qv = K.cycle_parallel(
+                    s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+                    s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
+                    self.shear_visc, *self.shear_visc_args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e,
+                    s.e_el, s.cell_mass, record, *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
+                    self._vy_pre, s.mass_own, *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons,
+                    self._jx_bc_prev, self._jy_bc_prev, dt, self._x_half, self._y_half, s.mat, s.props, s.isentrope,
+                    s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl, self.dvmax, s.damage,
+                    *self._par_update[:2], self._sums, *self._partition_args()[:-1], *self._par_update[4:])
+            self._after_fused(record, dt, dtn, bad, code, qv, ie, wbc, ke)
+            return
         ie, wbc, ke, dtn, bad, code, qv = K.cycle_serial(
             s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
             s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl, self.shear_visc,
@@ -407,6 +431,10 @@ class Simulation:
             *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons, self._jx_bc_prev, self._jy_bc_prev, dt,
             self._x_half, self._y_half, s.mat, s.props, s.isentrope, s.volume, s.eps_p, s.temperature, self._dtcell,
             self._errcell, self.cfl, self.dvmax, s.damage, *self._scratch, *self._waits)
+        self._after_fused(record, dt, dtn, bad, code, qv, ie, wbc, ke)
+
+    def _after_fused(self, record, dt, dtn, bad, code, qv, ie, wbc, ke) -> None:
+        s = self.state
         en = s.energy
         if self._cons[0].shape[0]:
             en.boundary_work += wbc
@@ -415,6 +443,12 @@ class Simulation:
                       *self._books((en.friction_heat, en.contact_heat)))
             self._pending_row = (ke, ie, 0.0, budget)
         self._end_step(dt, dtn, bad, code, qv)
+
+    def _impulse_work(self, nodes, *args) -> float:
+        """:func:`~shockfriction.hydro.kernels.impulse_work`, in parallel over many nodes (the same sum)."""
+        if self.parallel and nodes.shape[0] > 4 * K.SUM_CHUNK:
+            return K.impulse_work_parallel(nodes, *args, self._sums[1])
+        return K.impulse_work(nodes, *args)
 
     def _apply_position_shifts(self) -> None:
         """Move x^n by the interfaces' position shifts (penetration projections): node groups
@@ -430,19 +464,16 @@ class Simulation:
             K.sync_groups(sx, sy, zero, zero, *self._grp)
         K.apply_constraints(sx, sy, sx.copy(), sy.copy(), s.mass_own, *self._cons_fixed, 0.0)
         # a group's force is the group sum, given to each member: weight by mass_own/mass
-        w = -float(np.sum(s.mass_own / s.mass * (s.fx * sx + s.fy * sy)))
+        moved = (sx != 0.0) | (sy != 0.0)
+        shift = K.shift_nodes_parallel if self.parallel else K.shift_nodes
+        w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1])  # moves x^n, zeroes the shifts
         s.energy.projection_work += w
-        s.x += sx
-        s.y += sy
         # energy-neutral: the cells touching a shifted node take their volume at the shifted x^n as V^n, so the
         # cell update's -p dV sees only the motion over the step, not the shift (e is kept across the shift)
-        moved = (sx != 0.0) | (sy != 0.0)
         cells = np.flatnonzero(moved[s.conn].any(axis=1))
         vol = np.empty(cells.size)
         K.cell_volumes(s.conn[cells], s.x, s.y, s.axisymmetric, vol)
         s.volume[cells] = vol
-        sx[:] = 0.0
-        sy[:] = 0.0
 
     def _advance_stage(self) -> None:
         """Steps 5-6: positions, cells, next time step."""
@@ -450,16 +481,18 @@ class Simulation:
         dt = s.dt
         # 5 positions
         if self.parallel:
-            K.move_nodes(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
+            K.move_nodes_parallel(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
         # 6 cells (serial: 5 and 6 in one call)
         args = (s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
                 s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
                 s.shear_modulus, s.yield_stress, s.sound_speed, s.axisymmetric, dt, self.cq, self.cl, self.cfl,
                 self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
-                self._vx_old, self._vy_old, s.dt_velocity, *self._scratch)
+                self._vx_old, self._vy_old, s.dt_velocity)
         if self.parallel:
-            dtn, bad, code, qv = K.update_cells_parallel(*args, 0.0)
+            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
+                dtn, bad, code, qv = K.update_parallel(*args, *self._par_update)
         else:
+            args = args + self._scratch
             dtn, bad, code, qv = K.advance_serial(*args)
         self._end_step(dt, dtn, bad, code, qv)
 
@@ -469,9 +502,6 @@ class Simulation:
         if self._pending_row is not None:  # the history row at t^n, now that its viscous heat is known
             ke, ie, dq, budget = self._pending_row
             self._pending_row = None
-            if self.parallel:  # the sum in cell order (see _forces); the velocities are still those of the step
-                qv = K.viscous_heat_sum(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy,
-                                        s.dt_velocity)
             self._record(ke, ie + 0.5 * qv + dq, budget)
         if bad >= 0:
             self._fail(bad, code)

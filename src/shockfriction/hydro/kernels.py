@@ -2,26 +2,24 @@
 two passes over the cells and two over the nodes, one over the nodes in the serial cycle without
 interfaces (docs/theory/fused-cycle.md).
 
-* :func:`cell_forces_serial` / :func:`cell_forces_parallel` (the force pass): nodal forces
-  F^n from the cell stress sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the
-  velocity-dependent forces on v^{n-1/2} (Flanagan-Belytschko hourglass, optional edge
-  viscosity, optional shear viscosity), :func:`cell_corner_forces` per cell; serial: per block
-  of cells, a loop vectorized across the cells, then summed into the nodes in cell order;
-  parallel: the same blocks, in parallel, summed by :func:`gather_forces` (race-free); the velocity-dependent
-  part is kept per
-  corner for the viscous heat, the kinetic energy those forces remove over the step, put
-  into the cells by :func:`viscous_cell_heat` (in the cell update, or in
-  :func:`viscous_heat_serial` / ``_parallel`` on the cycles that write a history row).
+* :func:`cell_forces_serial` (the force pass): nodal forces F^n from the cell stress
+  sigma^n = S^n - (P^n + q^{n-1/2}) 1 at x^n, plus the velocity-dependent forces on v^{n-1/2}
+  (Flanagan-Belytschko hourglass, optional edge viscosity, optional shear viscosity),
+  :func:`cell_corner_forces` per cell; per block of cells, a loop vectorized across the cells,
+  then summed into the nodes in cell order; the velocity-dependent part is kept per corner for the
+  viscous heat, the kinetic energy those forces remove over the step, put into the cells by
+  :func:`viscous_cell_heat` (in the cell update, or in :func:`viscous_heat_serial` /
+  ``_parallel`` on the cycles that write a history row).
 * :func:`sum_groups` / :func:`sync_groups`: node groups (ties, periodic sides).
 * :func:`advance_velocities`: v* = v^{n-1/2} + dt F/m.
 * :func:`apply_constraints`: v <- v - (v.n - value) n per constraint.
 * :func:`impulse_work`: the kinetic energy that velocity jumps (constraints,
   interfaces) put into the leapfrog kinetic energy.
 * :func:`move_nodes`: x^{n+1} = x^n + dt v^{n+1/2}.
-* :func:`update_cells_serial` / :func:`update_cells_parallel` (the cell pass): per cell,
-  volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation + radial return,
-  artificial viscosity q^{n+1/2}, energy update with the EOS, spall, temperature, moduli,
-  sound speed and the cell's stable time step, reduced to the step of the cycle.
+* :func:`update_cells_serial` (the cell pass): per cell, volume and density at n+1, strain rate at
+  x^{n+1/2}, Jaumann rotation + radial return, artificial viscosity q^{n+1/2}, energy update with
+  the EOS, spall, temperature, moduli, sound speed and the cell's stable time step, reduced to the
+  step of the cycle.
 * :func:`velocities_serial` (steps 1-3 without interfaces), :func:`advance_serial` (positions and
   cells), :func:`cycle_serial` (both): the serial kernels above in fewer calls; :func:`cycle_serial`
   runs them over ranges (:func:`forces_of_cells`, :func:`advance_nodes`, :func:`update_blocks`), as a
@@ -29,14 +27,20 @@ interfaces (docs/theory/fused-cycle.md).
   with the bulk q (``axi`` and ``qedge`` false) they pass both flags as the constant False: numba
   types a constant argument as a literal and compiles that case apart, so LLVM drops the dead
   axisymmetric and edge-viscosity code (and the copies its branches cost), the same arithmetic.
+* The parallel kernels (end of the module; docs/theory/threads.md): the serial kernels' blocks on
+  partitions of the mesh (hydro/partition.py), a contiguous range of cells per thread:
+  :func:`forces_parallel` (own nodes summed in place, border nodes from their stored corners in cell
+  order), :func:`nodes_parallel`, :func:`update_parallel`, in one call :func:`cycle_parallel`; and
+  parallel twins of the node kernels (``*_parallel``).
 
-The serial and parallel variants are the same Python function compiled twice
-(``prange`` is ``range`` without ``parallel=True``), except the force pass, whose two kernels
-share its blocks (:func:`_gather_block`, :func:`_forces_of_block`, the vectorized :func:`_force_block` over the
-per-cell :func:`cell_corner_forces`) and differ in how the forces reach the nodes; per-cell helpers take and return
-scalars only (no array arguments: no reference counting in the inner loops) and are inlined
-(``inline="always"``); the serial kernels are compiled without reference counting.
-Every kernel takes plain arrays and floats; sign convention: compression positive.
+**Sums.** The history sums (internal energy, kinetic energy, viscous heat, impulse and projection
+work) add their terms per chunk of ``SUM_CHUNK`` = 64 cells or nodes (or entries of a node list), then
+the chunks' sums in chunk order from 0.0, in every kernel: a partition is a whole number of chunks, so
+any number of threads gives the serial kernels' bytes.
+
+Per-cell helpers take and return scalars only (no array arguments: no reference counting in the inner
+loops) and are inlined (``inline="always"``); the serial kernels are compiled without reference
+counting.  Every kernel takes plain arrays and floats; sign convention: compression positive.
 """
 
 from __future__ import annotations
@@ -45,7 +49,7 @@ import math
 import types
 
 import numpy as np
-from numba import get_thread_id, njit, prange
+from numba import njit, prange
 
 from shockfriction.hydro.eos import eos_ab, eos_ab_r, sound_speed2, sound_speed2_ab, temperature
 from shockfriction.hydro.geometry import (
@@ -254,6 +258,12 @@ def cell_corner_forces(xs, ys, us, ws, s_xx, s_yy, a_xy, pc, qc, rc, cc, gc, yc,
 # corners' x, y, vx, vy (rows 0-15), then their forces f, g and viscous forces vf, vg (rows 16-31)
 FORCE_BLOCK = 64
 FORCE_SCRATCH = 32 * FORCE_BLOCK
+# the history sums (internal energy, leapfrog kinetic energy, viscous heat) add their terms per chunk of SUM_CHUNK
+# cells or nodes (cells c with the same c >> SUM_SHIFT), then the chunks' sums in chunk order, in every kernel:
+# a thread that owns whole chunks computes the same sums (module docstring, "Sums")
+SUM_SHIFT = 6
+SUM_CHUNK = 1 << SUM_SHIFT
+assert SUM_CHUNK == FORCE_BLOCK
 
 
 @njit(cache=True, error_model="numpy", **NO_REFCOUNT, **VECTORIZE)
@@ -349,10 +359,11 @@ def forces_of_cells(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld
         _forces_of_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                          scq, elastic_only, out)
         r0 = c0 % ring
+        blk = 0.0
         for j in range(nb):
             c = np.uint64(c0 + j)
             if want_ie:
-                ie += cmass[c] * (e[c] + e_el[c])
+                blk += cmass[c] * (e[c] + e_el[c])
             r = np.uint64(r0 + j)
             for k in range(8):
                 vcorner[r, k] = out[j + (8 + k) * B]
@@ -360,46 +371,25 @@ def forces_of_cells(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld
                 fx[np.uint64(conn[c, k])] += out[j + k * B]
             for k in range(4):
                 fy[np.uint64(conn[c, k])] += out[j + (4 + k) * B]
+        ie += blk  # the sum of a block of SUM_CHUNK cells, then the blocks in order (module docstring, "Sums")
     return ie
 
 
-@njit(cache=True, parallel=True)
-def cell_forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
-                         scl, scq, elastic_only, scratch, vcorner, fx, fy, e, e_el, cmass, want_ie):
-    """:func:`cell_forces_serial` in parallel over its blocks of FORCE_BLOCK cells (the same gather and vectorized
-    block): ``scratch`` = (corner, blocks); the forces of cell c go to ``corner[c, 0:8]`` (fx0..fx3, fy0..fy3)
-    for :func:`gather_forces` (race-free), each thread works in its row of ``blocks``
-    (NUMBA_NUM_THREADS, FORCE_SCRATCH).  fx, fy, e, e_el, cmass and ``want_ie`` unused (0 returned)."""
-    corner, blocks = scratch
-    B = FORCE_BLOCK
-    nc = conn.shape[0]
-    for b in prange((nc + B - 1) // B):
-        work = blocks[get_thread_id()]
-        nodal = work[:16 * B]
-        out = work[16 * B:32 * B]
-        c0 = b * B
-        nb = min(B, nc - c0)
-        _gather_block(conn, x, y, vx, vy, c0, nb, nodal)
-        _forces_of_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
-                         scq, elastic_only, out)
-        for j in range(nb):
-            c = c0 + j
-            for k in range(8):
-                corner[c, k] = out[j + k * B]
-            for k in range(8):
-                vcorner[c, k] = out[j + (8 + k) * B]
-    return 0.0
-
-
-def _viscous_heat_impl(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
+@njit(cache=True, **NO_REFCOUNT)
+def viscous_heat_serial(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e):
     """Put the work of the viscous corner forces over the velocity step, -dt f . (v^{n-1/2} +
-    v^{n+1/2})/2, into each cell's energy (exactly the kinetic energy they removed); return the sum.
-    (Used on the cycles that write a history row; otherwise the cell update does it.)"""
+    v^{n+1/2})/2, into each cell's energy (exactly the kinetic energy they removed); return the sum (per
+    chunk of SUM_CHUNK cells, then the chunks in order: module docstring, "Sums").  (Used on the cycles
+    that write a history row; otherwise the cell update does it.)"""
     total = 0.0
-    for c in prange(conn.shape[0]):
-        heat = viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c)
-        e[c] += heat * (1.0 / cmass[c])  # as the cell update: times 1/m
-        total += heat
+    nc = conn.shape[0]
+    for c0 in range(0, nc, SUM_CHUNK):
+        part = 0.0
+        for c in range(c0, min(c0 + SUM_CHUNK, nc)):
+            heat = viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c)
+            e[c] += heat * (1.0 / cmass[c])  # as the cell update: times 1/m
+            part += heat
+        total += part
     return total
 
 
@@ -415,30 +405,16 @@ def viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c):
 
 @njit(cache=True, **NO_REFCOUNT)
 def viscous_heat_sum(conn, vcorner, vx0, vy0, vx1, vy1, dt):
-    """sum_c of :func:`viscous_cell_heat` in cell order (the serial kernels' sum, whatever the thread count)."""
+    """The sum of :func:`viscous_cell_heat` in the order of :func:`viscous_heat_serial` (per chunk, then the
+    chunks in order)."""
     total = 0.0
-    for c in range(conn.shape[0]):
-        total += viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c)
+    nc = conn.shape[0]
+    for c0 in range(0, nc, SUM_CHUNK):
+        part = 0.0
+        for c in range(c0, min(c0 + SUM_CHUNK, nc)):
+            part += viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c)
+        total += part
     return total
-
-
-viscous_heat_serial = njit(cache=True, **NO_REFCOUNT)(_viscous_heat_impl)
-viscous_heat_parallel = njit(cache=True, parallel=True)(_twin(_viscous_heat_impl, "_parallel"))
-
-
-@njit(cache=True, parallel=True)
-def gather_forces(corner, node_ptr, node_corner, fx, fy):
-    """Nodal forces by a gather over each node's corners (node_corner = 4 c + k), parallel."""
-    for n in prange(fx.shape[0]):
-        sx = 0.0
-        sy = 0.0
-        for k in range(node_ptr[n], node_ptr[n + 1]):
-            cc = node_corner[k] // 4
-            kk = node_corner[k] % 4
-            sx += corner[cc, kk]
-            sy += corner[cc, 4 + kk]
-        fx[n] = sx
-        fy[n] = sy
 
 
 # --------------------------------------------------------------------------- nodes
@@ -463,15 +439,11 @@ def apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, d
     return work
 
 
-@njit(cache=True, **NO_REFCOUNT)
-def impulse_work(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry, cx, cy):
-    """Kinetic-energy change that velocity jumps J = v - v_ref (constraints, interfaces) make in the
-    leapfrog kinetic energy K^n = sum m v^{n-1/2}.v^{n+1/2}/2 at t^n: sum m v^{n-1/2}.(J^n + J^{n-1})/2
-    over ``nodes`` (ascending; all nodes, or a set outside which J^n = J^{n-1} = 0).
-    Copies J into J_prev for the next step; with ``carry`` also adds J to (cx, cy) (the interfaces'
-    jumps carried into the reference of the constraints' jumps)."""
+@njit(cache=True, inline="always")
+def _impulse_work_range(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry, cx, cy,
+                        k0, k1):
     w = 0.0
-    for k in range(nodes.shape[0]):
+    for k in range(k0, k1):
         n = nodes[k]
         jx = vx[n] - vx_ref[n]
         jy = vy[n] - vy_ref[n]
@@ -481,7 +453,57 @@ def impulse_work(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_pre
         if carry:
             cx[n] += jx
             cy[n] += jy
+    return w
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def impulse_work(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry, cx, cy):
+    """Kinetic-energy change that velocity jumps J = v - v_ref (constraints, interfaces) make in the
+    leapfrog kinetic energy K^n = sum m v^{n-1/2}.v^{n+1/2}/2 at t^n: sum m v^{n-1/2}.(J^n + J^{n-1})/2
+    over ``nodes`` (ascending; all nodes, or a set outside which J^n = J^{n-1} = 0), per chunk of SUM_CHUNK
+    entries of ``nodes``, then the chunks in order (module docstring, "Sums").
+    Copies J into J_prev for the next step; with ``carry`` also adds J to (cx, cy) (the interfaces'
+    jumps carried into the reference of the constraints' jumps)."""
+    w = 0.0
+    m = nodes.shape[0]
+    for k0 in range(0, m, SUM_CHUNK):
+        w += _impulse_work_range(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry, cx,
+                                 cy, k0, min(k0 + SUM_CHUNK, m))
     return 0.5 * w
+
+
+@njit(cache=True, parallel=True)
+def impulse_work_parallel(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry, cx, cy,
+                          parts):
+    """:func:`impulse_work`, chunks in parallel (the same sum; ``parts`` scratch of a value per chunk)."""
+    m = nodes.shape[0]
+    nch = (m + SUM_CHUNK - 1) >> SUM_SHIFT
+    for i in prange(nch):
+        parts[i] = _impulse_work_range(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry,
+                                       cx, cy, i << SUM_SHIFT, min((i + 1) << SUM_SHIFT, m))
+    return 0.5 * chunk_total(parts, nch)
+
+
+def _shift_nodes_impl(x, y, sx, sy, fx, fy, mass_own, mass, parts):
+    """Move x^n by the position shifts (sx, sy) and zero them; returns sum (m_own/m) F . dx (per chunk of
+    SUM_CHUNK nodes, then the chunks in order: module docstring, "Sums")."""
+    nn = x.shape[0]
+    nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
+    for i in prange(nch):
+        part = 0.0
+        for n in range(i << SUM_SHIFT, min((i + 1) << SUM_SHIFT, nn)):
+            u = sx[n]
+            w = sy[n]
+            part += mass_own[n] / mass[n] * (fx[n] * u + fy[n] * w)
+            x[n] += u
+            y[n] += w
+            sx[n] = 0.0
+            sy[n] = 0.0
+        parts[i] = part
+    t = 0.0
+    for i in range(nch):
+        t += parts[i]
+    return t
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -517,11 +539,10 @@ def sync_groups(vx, vy, vx_ref, vy_ref, grp_ptr, grp_nodes):
             vy[n] = vy_ref[n] + dy
 
 
-@njit(cache=True, **NO_REFCOUNT)
-def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre):
+def _advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre):
     """v* = v + dt F/m (m: the group mass of the node); v is kept in (vx_old, vy_old) and, with
     ``keep_pre``, v* in (vx_pre, vy_pre) (the velocities before the constraints)."""
-    for n in range(vx.shape[0]):
+    for n in prange(vx.shape[0]):
         u = vx[n]
         w = vy[n]
         vx_old[n] = u
@@ -536,11 +557,10 @@ def advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre,
             vy_pre[n] = w
 
 
-@njit(cache=True, **NO_REFCOUNT)
-def move_nodes(x, y, vx, vy, dt, x_half, y_half):
+def _move_nodes(x, y, vx, vy, dt, x_half, y_half):
     """x^{n+1} = x^n + dt v^{n+1/2}, and the mid-step positions x^{n+1/2} = (x^n + x^{n+1})/2 into
     (x_half, y_half) for the cell update (once per node, not per corner)."""
-    for n in range(x.shape[0]):
+    for n in prange(x.shape[0]):
         u = x[n]
         w = y[n]
         u1 = u + dt * vx[n]
@@ -549,6 +569,14 @@ def move_nodes(x, y, vx, vy, dt, x_half, y_half):
         y[n] = w1
         x_half[n] = 0.5 * (u + u1)
         y_half[n] = 0.5 * (w + w1)
+
+
+advance_velocities = njit(cache=True, **NO_REFCOUNT)(_advance_velocities)
+advance_velocities_parallel = njit(cache=True, parallel=True)(_twin(_advance_velocities, "_parallel"))
+move_nodes = njit(cache=True, **NO_REFCOUNT)(_move_nodes)
+shift_nodes = njit(cache=True, **NO_REFCOUNT)(_shift_nodes_impl)
+shift_nodes_parallel = njit(cache=True, parallel=True)(_twin(_shift_nodes_impl, "_parallel"))
+move_nodes_parallel = njit(cache=True, parallel=True)(_twin(_move_nodes, "_parallel"))
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -561,10 +589,15 @@ def kinetic_energy(vx, vy, mass_own):
 
 @njit(cache=True, **NO_REFCOUNT)
 def kinetic_energy_product(vx0, vy0, vx1, vy1, mass_own):
-    """Leapfrog kinetic energy at t^n: sum m v^{n-1/2}.v^{n+1/2} / 2."""
+    """Leapfrog kinetic energy at t^n: sum m v^{n-1/2}.v^{n+1/2} / 2 (per chunk of SUM_CHUNK nodes, then the
+    chunks in order: module docstring, "Sums")."""
     s = 0.0
-    for n in range(vx0.shape[0]):
-        s += mass_own[n] * (vx0[n] * vx1[n] + vy0[n] * vy1[n])
+    nn = vx0.shape[0]
+    for n0 in range(0, nn, SUM_CHUNK):
+        part = 0.0
+        for n in range(n0, min(n0 + SUM_CHUNK, nn)):
+            part += mass_own[n] * (vx0[n] * vx1[n] + vy0[n] * vy1[n])
+        s += part
     return 0.5 * s
 
 
@@ -615,7 +648,7 @@ UPDATE_BLOCK = 2048  # cells per block of the serial update (update_serial)
 
 def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                        sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell,
-                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0):
+                       qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0, qparts):
     """The cycle's cell pass (step 6): advance every cell from t^n to t^{n+1}.
 
     Per cell: volume and density at n+1, strain rate at x^{n+1/2}, Jaumann rotation and radial
@@ -627,6 +660,8 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
     ``dmg``: spall damage, the cell failed when >= 1 (no deviator, no tension; hydro/spall.py).
     (xha, yha): the mid-step node positions x^{n+1/2} (:func:`move_nodes`), (x1a, y1a): x^{n+1}.
     Returns (min stable dt, first bad cell or -1, its error code, qv0 + the viscous heat put in);
+    the heat is summed per chunk of SUM_CHUNK cells (chunk i's sum into ``qparts[i]``), the chunks added to qv0
+    in order (module docstring, "Sums");
     errcell[c] holds the code of a bad cell (only bad cells are written).
 
     Four loops over the cells, each a short chain of dependent divisions and roots that the
@@ -648,6 +683,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
     nc = conn.shape[0]
     bad = nc
     qv = qv0
+    qp = 0.0  # the viscous heat of this chunk of SUM_CHUNK cells
     for m in range(props.shape[0]):
         g0m = props[m, P_G0]
         mrec[m, R_IG0] = 1.0 / g0m if g0m != 0.0 else 0.0
@@ -655,7 +691,11 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
         span = props[m, P_MU_HI] - props[m, P_MU_LO]
         mrec[m, R_TSCALE] = (ntab - 1) / span if span != 0.0 else 0.0
         mrec[m, R_ICV] = 1.0 / props[m, P_CV]
-    for c in prange(nc):
+    for c in range(nc):
+        if c > 0 and (c & (SUM_CHUNK - 1)) == 0:
+            qparts[(c >> SUM_SHIFT) - 1] = qp
+            qv += qp
+            qp = 0.0
         cm = cmass[c]
         im = 1.0 / cm
         # the viscous heat (loads only: the node values stay in registers for the strain rate below)
@@ -685,7 +725,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
         if not (jmin > 0.0 and v1 > 0.0):
             if heat_now:
                 e[c] += hc * im
-                qv += hc
+                qp += hc
             dtcell[c] = 1e300
             if math.isnan(jmin) or math.isnan(v1):
                 errcell[c] = ERR_NAN
@@ -777,11 +817,14 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
         dtcell[c] = area1 / dmax
         if heat_now:
             e[c] += hc * im
-            qv += hc
+            qp += hc
+    if nc > 0:
+        qparts[(nc - 1) >> SUM_SHIFT] = qp
+        qv += qp
     if bad < nc:
         return 0.0, bad, errcell[bad], qv
     # second loop: deviatoric stress (rotation, predictor, radial return), e~ = e + plastic heat
-    for c in prange(nc):
+    for c in range(nc):
         m = np.uint64(mat[c])
         dxx = work[4, c]
         dyy = work[5, c]
@@ -852,7 +895,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
         gam = props[m, P_GAMMA]
         irho0 = mrec[m, R_IRHO0]
         pmin = props[m, P_PMIN]
-        for c in prange(c0, c_end):
+        for c in range(c0, c_end):
             rho1 = rho[c]
             irho1 = work[10, c]
             # thesis eq. 3.18 with errata, q time-centred as the forces see it:
@@ -867,7 +910,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
             cs[c] = sound_speed2_ab(irho1, p1, ekind, snd0, b, da)  # bulk c^2, the last loop adds the shear part
         spk = props[m, P_SPALL]
         if spk != SPALL_NONE:
-            for c in prange(c0, c_end):
+            for c in range(c0, c_end):
                 if dmg[c] >= 1.0:  # failed before
                     continue
                 dnew = spall_damage(spk, dmg[c], p[c], sxx[c], syy[c], sxy[c], dt, props[m, P_PSPALL],
@@ -890,7 +933,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
                     cs[c] = sound_speed2_ab(irho1, p1, ekind, snd0, b, da)
                 dmg[c] = dnew
         c0 = c_end
-    for c in prange(nc):
+    for c in range(nc):
         m = np.uint64(mat[c])
         e1 = e[c]
         if not (math.isfinite(e1) and math.isfinite(p[c])):
@@ -930,7 +973,7 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
         sh = props[m, P_SCG + I_H]
         sxi = props[m, P_SCG + I_XI]
         stf = props[m, P_SCG + I_TF]
-        for c in prange(c0, c_end):
+        for c in range(c0, c_end):
             c2 = cs[c]
             irho1 = work[10, c]
             # G(P, T)/G0 in every cell (selects below, no branch per cell)
@@ -971,19 +1014,20 @@ def _update_cells_impl(conn, xha, yha, x1a, y1a, vx, vy, mat, props, table, cmas
 
 
 update_cells_serial = njit(cache=True, error_model="numpy", **NO_REFCOUNT)(_update_cells_impl)
-update_cells_parallel = njit(cache=True, parallel=True, error_model="numpy")(_twin(_update_cells_impl, "_parallel"))
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
-                  bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, start, stop, kb, s):
+                  bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, start, stop, kb, s, part):
     """Steps 3 and 5 on nodes start .. stop - 1, node by node: :func:`advance_velocities`, on a
     constrained node v* into (vx_pre, vy_pre) and its constraints (:func:`apply_constraints`, in
     list order), with ``record`` the node's term of :func:`kinetic_energy_product` (times 2) added
     to ``s`` in node order, then :func:`move_nodes`.  The same operations in the same order per node
     as those kernels.  ``bc_nodes`` (ascending) are the constrained nodes,
     ``bc_cons[bc_ptr[k]:bc_ptr[k + 1]]`` the constraints of ``bc_nodes[k]`` in list order, ``kb``
-    the first of them at or after ``start``.  Returns (s, kb at ``stop``)."""
+    the first of them at or after ``start``.  The kinetic energy terms are summed per chunk of SUM_CHUNK nodes
+    (``part``, the chunk of ``start`` so far), each chunk's sum added to ``s`` when the next chunk begins (the
+    last one by the caller): module docstring, "Sums".  Returns (s, part, kb at ``stop``)."""
     nb = bc_nodes.shape[0]
     nxt = bc_nodes[kb] if kb < nb else -1
     for n in range(start, stop):
@@ -1008,7 +1052,10 @@ def advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mas
         vx[n] = u1
         vy[n] = w1
         if record:
-            s += mass_own[n] * (u * u1 + w * w1)
+            if (n & (SUM_CHUNK - 1)) == 0:
+                s += part
+                part = 0.0
+            part += mass_own[n] * (u * u1 + w * w1)
         p = x[n]
         r = y[n]
         p1 = p + dt * u1
@@ -1017,13 +1064,13 @@ def advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mas
         y[n] = r1
         x_half[n] = 0.5 * (p + p1)
         y_half[n] = 0.5 * (r + r1)
-    return s, kb
+    return s, part, kb
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
-                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qparts):
     """:func:`update_cells_serial` over blocks of ``UPDATE_BLOCK`` cells (:func:`update_blocks` over all of
     them), so that the values its four loops hand on (``work``, (11, >= min(cells, UPDATE_BLOCK))) and the
     cell arrays they share stay in cache.  Returns (min stable dt, first bad cell or -1, its code, viscous
@@ -1032,7 +1079,7 @@ def update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
     dtmin, bad, code, qv = update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e,
                                          e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl,
                                          dvmax, dtcell, errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv,
-                                         work, mrec, 0, nb, 1e300, -1, ERR_NONE, 0.0)
+                                         work, mrec, 0, nb, 1e300, -1, ERR_NONE, 0.0, qparts)
     if bad >= 0:
         dtmin = 0.0
     return dtmin, bad, code, qv
@@ -1041,7 +1088,7 @@ def update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
 @njit(cache=True, **NO_REFCOUNT)
 def update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
-                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, start, stop, dtmin, bad, code, qv):
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, start, stop, dtmin, bad, code, qv, qparts):
     """:func:`update_cells_serial` over the blocks start .. stop - 1 of ``UPDATE_BLOCK`` cells (block k: cells
     k UPDATE_BLOCK .. (k + 1) UPDATE_BLOCK - 1), in plane strain with the bulk q with both flags as the constant
     False (module docstring).  Every cell sees the same operations and the viscous heat is summed in cell
@@ -1061,7 +1108,8 @@ def update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
                                              q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1],
                                              temp[b0:b1], shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl,
                                              dvmax, dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
-                                             vcorner[r0:r0 + b1 - b0], vx_old, vy_old, dtv, wb, mrec, qv)
+                                             vcorner[r0:r0 + b1 - b0], vx_old, vy_old, dtv, wb, mrec, qv,
+                                             qparts[b0 >> SUM_SHIFT:])
         if badb >= 0:
             if bad < 0:
                 bad = b0 + badb
@@ -1074,15 +1122,17 @@ def update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
 @njit(cache=True, **NO_REFCOUNT)
 def _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
-                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0):
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0, qparts):
     """:func:`update_cells_serial` with the literal flags of plane strain with the bulk q."""
     if axi or qedge:
         return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
                                    q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
-                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0)
+                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0,
+                                   qparts)
     return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
                                sxx, syy, sxy, eps_p, temp, shear, yld, cs, False, dt, cq, cl, cfl, dvmax, dtcell,
-                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0)
+                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0,
+                               qparts)
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -1120,13 +1170,13 @@ def velocities_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, y
 @njit(cache=True, **NO_REFCOUNT)
 def advance_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                    sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
-                   heat_now, vcorner, vx_old, vy_old, dtv, work, mrec):
+                   heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qparts):
     """Steps 5-6 in one call: :func:`move_nodes` (x^{n+1/2} into x_half, y_half), then
     :func:`update_serial` (same arguments and result)."""
     move_nodes(x, y, vx, vy, dt, x_half, y_half)
     return update_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx,
                          syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge,
-                         dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec)
+                         dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qparts)
 
 
 # cells per step of the serial cycle's wavefront (cycle_serial): forces of this many cells, then the nodes and
@@ -1142,7 +1192,7 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
                  scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
                  vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes, bc_ptr, bc_cons, jx_prev, jy_prev,
                  dt, x_half, y_half, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg, work,
-                 mrec, node_wait, cell_wait, zero_wait, wave):
+                 mrec, qparts, node_wait, cell_wait, zero_wait, wave):
     """One whole serial cycle without interfaces, the viscous heat in the cell update (no history row
     with probes or observers this cycle), as a wavefront over the mesh: the forces of the next
     ``wave`` cells (:func:`forces_of_cells`), then the nodes whose cells all have their forces
@@ -1165,6 +1215,7 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
     grouped = grp_ptr.shape[0] > 1
     ie = 0.0
     s = 0.0
+    part = 0.0
     kb = 0
     dtmin = 1e300
     bad = -1
@@ -1201,9 +1252,9 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
             if done_cells == nc and grouped:
                 sum_groups(fx, fy, grp_ptr, grp_nodes)
             if stop > done_nodes:
-                s, kb = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny,
-                                      cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, done_nodes,
-                                      stop, kb, s)
+                s, part, kb = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own,
+                                            cnx, cny, cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half,
+                                            y_half, done_nodes, stop, kb, s, part)
                 done_nodes = stop
         k1 = done_blocks
         while k1 < nblocks and cell_wait[min((k1 + 1) * UPDATE_BLOCK, nc) - 1] < done_nodes:
@@ -1213,7 +1264,7 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
                                                  rho, e, e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi,
                                                  dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg, True, vcorner,
                                                  vx_old, vy_old, dtv, work, mrec, done_blocks, k1, dtmin, bad, code,
-                                                 qv)
+                                                 qv, qparts)
             done_blocks = k1
     wbc = 0.0
     if bc_cons.shape[0]:
@@ -1221,7 +1272,7 @@ def cycle_serial(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, a
                            vx_pre, vy_pre)
     if bad >= 0:
         dtmin = 0.0
-    return ie, wbc, 0.5 * s, dtmin, bad, code, qv
+    return ie, wbc, 0.5 * (s + part), dtmin, bad, code, qv
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -1297,3 +1348,233 @@ def initial_cell_state(mat, props, table, rho, e, p, temp, shear, yld, cs, eps_p
             c2 += 4.0 * g / (3.0 * rho[c])
         cs[c] = math.sqrt(c2)
 
+
+
+# --------------------------------------------------------------------------- partitions (threads)
+# The parallel kernels: the cells split into contiguous ranges of whole SUM_CHUNKs (hydro/partition.py), a range
+# per thread, each running the serial kernels' blocks on its range; a node whose cells all lie in one range is
+# that range's ("interior"), the others ("border") get their corner forces summed afterwards, in cell order.
+# Every node and cell sees the operations of the serial kernels in the same order, and every sum the same terms
+# in the same order, whatever the number of ranges (docs/theory/threads.md).
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def chunk_total(parts, n):
+    """parts[0] + parts[1] + ... + parts[n - 1] in order, from 0.0: the chunks' sums (module docstring, "Sums")."""
+    t = 0.0
+    for i in range(n):
+        t += parts[i]
+    return t
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                    scl, scq, elastic_only, corner, vcorner, fx, fy, e, e_el, cmass, want_ie, start, stop, border,
+                    bcorner, iparts):
+    """:func:`forces_of_cells` over the cells start .. stop - 1 of one partition (``start`` a multiple of
+    SUM_CHUNK), a row of ``vcorner`` per cell: a corner's force is added into its node when the node is the
+    partition's own (``border[n] == 0``), else stored in ``bcorner[c, k], bcorner[c, 4 + k]`` for
+    :func:`forces_parallel`'s border loop.  With ``want_ie`` the internal energy of each chunk of SUM_CHUNK cells
+    goes to ``iparts[chunk]``."""
+    B = FORCE_BLOCK
+    nodal = corner[:16 * B]
+    out = corner[16 * B:32 * B]
+    for c0 in range(start, stop, B):
+        nb = min(B, stop - c0)
+        _gather_block(conn, x, y, vx, vy, c0, nb, nodal)
+        _forces_of_block(c0, nb, nodal, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
+                         scq, elastic_only, out)
+        blk = 0.0
+        for j in range(nb):
+            c = np.uint64(c0 + j)
+            if want_ie:
+                blk += cmass[c] * (e[c] + e_el[c])
+            for k in range(8):
+                vcorner[c, k] = out[j + (8 + k) * B]
+            for k in range(4):
+                n = np.uint64(conn[c, k])
+                f = out[j + k * B]
+                g = out[j + (4 + k) * B]
+                if border[n]:
+                    bcorner[c, k] = f
+                    bcorner[c, 4 + k] = g
+                else:
+                    fx[n] += f
+                    fy[n] += g
+        if want_ie:
+            iparts[c0 >> SUM_SHIFT] = blk
+
+
+@njit(cache=True, parallel=True)
+def forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
+                    scq, elastic_only, blocks, vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds, pnode_ptr, pnodes,
+                    border, bcorner, bnodes, bptr, bcorn, iparts):
+    """The force pass (:func:`cell_forces_serial`) over the partitions in parallel: partition i zeroes its own
+    nodes' forces and runs :func:`forces_of_range` on its cells (``blocks[i]`` its block scratch); then each
+    border node's force is the sum of its corners' forces from ``bcorner`` in cell order (``bcorn[bptr[j]:bptr[j
+    + 1]]`` = 4 c + k of border node ``bnodes[j]``, ascending), from 0.0, as the serial pass adds them.  Returns
+    the internal energy at t^n when ``want_ie`` (else 0), summed as the serial pass does."""
+    npart = cbounds.shape[0] - 1
+    for i in prange(npart):
+        for j in range(pnode_ptr[i], pnode_ptr[i + 1]):
+            n = pnodes[j]
+            fx[n] = 0.0
+            fy[n] = 0.0
+        forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                        scl, scq, elastic_only, blocks[i], vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds[i],
+                        cbounds[i + 1], border, bcorner, iparts)
+    nb = bnodes.shape[0]
+    for i in prange(npart):  # the border nodes in as many groups as partitions
+        for j in range(i * nb // npart, (i + 1) * nb // npart):
+            sx = 0.0
+            sy = 0.0
+            for k in range(bptr[j], bptr[j + 1]):
+                cc = bcorn[k] >> 2
+                kk = bcorn[k] & 3
+                sx += bcorner[cc, kk]
+                sy += bcorner[cc, 4 + kk]
+            n = bnodes[j]
+            fx[n] = sx
+            fy[n] = sy
+    if want_ie:
+        return chunk_total(iparts, (conn.shape[0] + SUM_CHUNK - 1) >> SUM_SHIFT)
+    return 0.0
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def update_range(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+                 sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg, heat_now,
+                 vcorner, vx_old, vy_old, dtv, work, mrec, start, stop, qparts):
+    """:func:`update_blocks` over the cells start .. stop - 1 (``start`` a multiple of SUM_CHUNK), in blocks of
+    UPDATE_BLOCK cells from ``start``, ``vcorner`` a row per cell; the viscous heat of each chunk into
+    ``qparts[chunk]``.  Returns (min stable dt over the good blocks, first bad cell or -1, its code)."""
+    dtmin = 1e300
+    bad = -1
+    code = ERR_NONE
+    wb = work.reshape(-1)[:11 * UPDATE_BLOCK].reshape(11, UPDATE_BLOCK)
+    for b0 in range(start, stop, UPDATE_BLOCK):
+        b1 = min(b0 + UPDATE_BLOCK, stop)
+        dtb, badb, codeb, _ = _update_block(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table,
+                                            cmass[b0:b1], vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1],
+                                            q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1], temp[b0:b1],
+                                            shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl, dvmax,
+                                            dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
+                                            vcorner[b0:b1], vx_old, vy_old, dtv, wb, mrec, 0.0,
+                                            qparts[b0 >> SUM_SHIFT:])
+        if badb >= 0:
+            if bad < 0:
+                bad = b0 + badb
+                code = codeb
+        else:
+            dtmin = min(dtmin, dtb)
+    return dtmin, bad, code
+
+
+@njit(cache=True, parallel=True)
+def update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
+                    sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
+                    heat_now, vcorner, vx_old, vy_old, dtv, works, mrecs, qparts, cbounds, pdt, pbad):
+    """The cell update (:func:`update_serial`) over the partitions in parallel (:func:`update_range`, partition
+    i with its scratch ``works[i]``, ``mrecs[i]``).  Returns what update_serial returns: (min stable dt, or 0 with
+    a bad cell; the first bad cell or -1; its code; the viscous heat, summed as the serial kernels do)."""
+    npart = cbounds.shape[0] - 1
+    for i in prange(npart):
+        dtm, bd, cd = update_range(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
+                                   q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
+                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, works[i], mrecs[i],
+                                   cbounds[i], cbounds[i + 1], qparts)
+        pdt[i] = dtm
+        pbad[i, 0] = bd
+        pbad[i, 1] = cd
+    dtmin = 1e300
+    bad = -1
+    code = ERR_NONE
+    for i in range(npart):
+        if pbad[i, 0] >= 0 and bad < 0:
+            bad = pbad[i, 0]
+            code = pbad[i, 1]
+        dtmin = min(dtmin, pdt[i])
+    qv = 0.0
+    if heat_now:
+        qv = chunk_total(qparts, (conn.shape[0] + SUM_CHUNK - 1) >> SUM_SHIFT)
+    if bad >= 0:
+        dtmin = 0.0
+    return dtmin, bad, code, qv
+
+
+@njit(cache=True, parallel=True)
+def nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
+                   bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, kparts, groups):
+    """:func:`advance_nodes` over all nodes, ``groups`` runs of whole chunks of SUM_CHUNK nodes in parallel (each
+    chunk's kinetic energy sum into ``kparts``).  Returns the leapfrog kinetic energy at t^n when ``record`` (else
+    0), summed as the serial kernels do."""
+    nn = vx.shape[0]
+    nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
+    for g in prange(groups):
+        for i in range(g * nch // groups, (g + 1) * nch // groups):
+            n0 = i << SUM_SHIFT
+            kb = np.searchsorted(bc_nodes, n0)
+            _, part, _ = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny,
+                                       cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, n0,
+                                       min(n0 + SUM_CHUNK, nn), kb, 0.0, 0.0)
+            kparts[i] = part
+    if record:
+        return 0.5 * chunk_total(kparts, nch)
+    return 0.0
+
+
+@njit(cache=True, parallel=True)
+def kinetic_energy_product_parallel(vx0, vy0, vx1, vy1, mass_own, kparts):
+    """:func:`kinetic_energy_product`, chunks in parallel (same sum)."""
+    nn = vx0.shape[0]
+    nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
+    for i in prange(nch):
+        part = 0.0
+        for n in range(i << SUM_SHIFT, min((i + 1) << SUM_SHIFT, nn)):
+            part += mass_own[n] * (vx0[n] * vx1[n] + vy0[n] * vy1[n])
+        kparts[i] = part
+    return 0.5 * chunk_total(kparts, nch)
+
+
+@njit(cache=True, parallel=True)
+def viscous_heat_parallel(conn, vcorner, vx0, vy0, vx1, vy1, dt, cmass, e, qparts):
+    """:func:`viscous_heat_serial`, chunks in parallel (same cells' energies, same sum)."""
+    nc = conn.shape[0]
+    nch = (nc + SUM_CHUNK - 1) >> SUM_SHIFT
+    for i in prange(nch):
+        part = 0.0
+        for c in range(i << SUM_SHIFT, min((i + 1) << SUM_SHIFT, nc)):
+            heat = viscous_cell_heat(conn, vcorner, vx0, vy0, vx1, vy1, dt, c)
+            e[c] += heat * (1.0 / cmass[c])
+            part += heat
+        qparts[i] = part
+    return chunk_total(qparts, nch)
+
+
+@njit(cache=True)
+def cycle_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
+                   scq, elastic_only, blocks, vcorner, fx, fy, e, e_el, cmass, record, grp_ptr, grp_nodes, mass, dtv,
+                   vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes, bc_ptr, bc_cons, jx_prev,
+                   jy_prev, dt, x_half, y_half, mat, props, table, vol, eps_p, temp, dtcell, errcell, cfl, dvmax, dmg,
+                   works, mrecs, sums, cbounds, pnode_ptr, pnodes, border, bcorner, bnodes, bptr, bcorn, pdt, pbad):
+    """:func:`cycle_serial` on the partitions, in three parallel passes: the forces (:func:`forces_parallel`),
+    the nodes (:func:`nodes_parallel`), the cells (:func:`update_parallel`), with :func:`sum_groups` and the
+    constraints' :func:`impulse_work` between them on one thread.  ``sums`` (3, chunks): the chunk sums of the
+    internal energy, kinetic energy and viscous heat.  The same bytes as :func:`cycle_serial`; returns what it
+    returns."""
+    ie = forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
+                         scl, scq, elastic_only, blocks, vcorner, fx, fy, e, e_el, cmass, record, cbounds, pnode_ptr,
+                         pnodes, border, bcorner, bnodes, bptr, bcorn, sums[0])
+    if grp_ptr.shape[0] > 1:
+        sum_groups(fx, fy, grp_ptr, grp_nodes)
+    ke = nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
+                        bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, sums[1], cbounds.shape[0] - 1)
+    dtmin, bad, code, qv = update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e,
+                                           e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl,
+                                           cfl, dvmax, dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old,
+                                           dtv, works, mrecs, sums[2], cbounds, pdt, pbad)
+    wbc = 0.0
+    if bc_cons.shape[0]:
+        wbc = impulse_work(bc_nodes, mass_own, vx_old, vy_old, vx, vy, vx_pre, vy_pre, jx_prev, jy_prev, False,
+                           vx_pre, vy_pre)
+    return ie, wbc, ke, dtmin, bad, code, qv

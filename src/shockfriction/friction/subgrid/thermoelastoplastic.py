@@ -37,7 +37,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import get_num_threads, njit, prange
 
 from shockfriction.friction.subgrid.rootfind import B, BRENT_STATE, C, FB, brent_feed, brent_next, brent_start
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, OK, SQRT3,
@@ -476,7 +476,6 @@ def _evaluate(theta, theta_ad, near, theta_unit, weights, a0, eps_prev, hard, ad
     return theta - theta_ad[0] - a0 * beta_T * tau * v_loc, tau, vh, v_loc, rate, scale
 
 
-@njit(cache=True)
 def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev,
                               k, tau_cap, beta_T, f, p, dt, xtol, max_iter,
                               theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status, depth,
@@ -499,20 +498,54 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     (:func:`finish_column`: eps_prev += deps, the hardening, plastic_work, the pending plastic heat
     ``pending`` (n_nodes, n_columns) = heat_factor tau deps with ``pending_depth``, ``pending_sum``, ``lag``
     and ``flags``); a column that fails is left as it was.
+
+    The columns are independent (every output is per column): with more than one numba thread and at least
+    ``PARALLEL_MIN_COLUMNS`` columns they are solved in parallel blocks (:func:`_solve_columns_parallel`), the
+    same bytes.
     """
     nn = theta_unit.shape[0]
+    ncol = theta_ad.shape[1]
+    threads = get_num_threads()  # here, in Python: numba's count inside a kernel would stop its caching
+    if threads > 1 and ncol >= PARALLEL_MIN_COLUMNS:
+        _solve_columns_parallel(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev,
+                                k, tau_cap, beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local,
+                                plastic_rate, q_in, deps, iters, status, depth, heat_factor, pending, pending_depth,
+                                plastic_work, lag, rho_c, flags, pending_sum, bool(use_front),
+                                min(threads * 4, ncol))
+        return
     _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
                    status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
-                   use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)), np.empty(nn))
+                   bool(use_front), np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)), np.empty(nn), 0, ncol)
+
+
+#: columns from which :func:`solve_thermoelastoplastic` runs in parallel when numba has more than one thread
+PARALLEL_MIN_COLUMNS = 32
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _solve_columns_parallel(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k,
+                            tau_cap, beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate,
+                            q_in, deps, iters, status, depth, heat_factor, pending, pending_depth, plastic_work, lag,
+                            rho_c, flags, pending_sum, use_front, nblocks):
+    """:func:`_solve_columns` over ``nblocks`` blocks of consecutive columns in parallel, each with its scratch."""
+    nn = theta_unit.shape[0]
+    ncol = theta_ad.shape[1]
+    for b in prange(nblocks):
+        _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k,
+                       tau_cap, beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in,
+                       deps, iters, status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c,
+                       flags, pending_sum, use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)),
+                       np.empty(nn), b * ncol // nblocks, (b + 1) * ncol // nblocks)
 
 
 @njit(cache=True, error_model="numpy", **NO_REFCOUNT)
 def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
                    status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
-                   use_front, st, unit_sfx, scratch, near):
-    """:func:`solve_thermoelastoplastic` with its scratch arrays (Brent state ``st``, ``unit_sfx`` of n_nodes,
+                   use_front, st, unit_sfx, scratch, near, j0, j1):
+    """:func:`solve_thermoelastoplastic` of the columns j0 .. j1 - 1 with its scratch arrays
+    (Brent state ``st``, ``unit_sfx`` of n_nodes,
     ``scratch`` (4, n_nodes) for :func:`plastic_increments`, ``near`` (n_nodes): the column's theta_ad above its
     plastic-front bound, copied once from the strided layout for all of the column's evaluations when the bound
     is SIMD_MIN_NODES or deeper)."""
@@ -531,7 +564,7 @@ def _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_b
     for i in range(nn):
         if theta_unit[i] > unit_max:
             unit_max = theta_unit[i]
-    for j in range(theta_ad.shape[1]):
+    for j in range(j0, j1):
         iters[j] = 0
         status[j] = OK
         row = theta_ad[:, j]
