@@ -10,7 +10,7 @@
 a history row every cycle) a simulation per thread count (threads = 1: the serial kernels; n > 1: the partitioned
 parallel kernels, ``numba.set_num_threads(n)``), stepped ``--zone-cycles`` / n^2 cycles per timing, the counts
 interleaved (1, 2, 4, ..., 1, 2, 4, ...) so that a change of the machine's load hits them alike; then the cone shot
-of examples' cone_in_cylinder (100 um cells, coupled.cone_shot.cone_deck, Coulomb and thermoelastoplastic
+of examples' cone_in_cylinder (100 um cells, examples/cone_shot.py, Coulomb and thermoelastoplastic
 sub-grid columns) to ``--cone-end-time`` microseconds with ``run_simulation``, each count in turn.  The thread
 governor is off (the kernels' own scaling) unless ``--governor``.  For each case it prints the median rate (or
 wall time), the speed-up over one thread, the parallel efficiency (speed-up / threads) and the serial fraction
@@ -214,7 +214,8 @@ def scaling(args) -> None:
         _table(f"hydro block {n} x {n} ({n * n} cells), {cycles} cycles per timing, {args.repeat} repeat(s), "
                f"load average {os.getloadavg()[0]:.2f}:", counts, rates, "zone-cycles/s", True)
     if args.cone_end_time > 0:
-        from shockfriction.coupled.cone_shot import cone_deck
+        sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples"))
+        from cone_shot import cone_deck  # examples/cone_shot.py
 
         for law in args.cone_laws:
             for t in counts:  # compile outside the timings

@@ -34,7 +34,7 @@ def state_arrays(sim):
 
 def run(spec, threads, cycles):
     if spec.startswith("cone:"):
-        from shockfriction.coupled.cone_shot import cone_deck
+        from cone_shot import cone_deck  # examples/cone_shot.py (examples/ is on the child's PYTHONPATH)
         law = spec[5:]
         deck = cone_deck(law, 0.3, 0.7, cell_um=400.0, end_us=1.0, cells=100, threads=threads)
     else:
@@ -69,7 +69,8 @@ print(json.dumps(report))
 
 def _compare(specs: list[str], counts=(1, 2, 3, 4), cycles: int = 60) -> dict:
     env = dict(os.environ, NUMBA_NUM_THREADS="4")
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src")] + [p for p in [env.get("PYTHONPATH")] if p])
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src"), str(ROOT / "examples")]
+                                        + [p for p in [env.get("PYTHONPATH")] if p])
     out = subprocess.run([sys.executable, "-c", CHILD, json.dumps([specs, list(counts), cycles])], env=env,
                          capture_output=True, text=True, timeout=1800)
     assert out.returncode == 0, out.stderr[-3000:]
