@@ -319,6 +319,20 @@ def point_weights(guide, seg, coef, active, gnode, gw):
             gw[j, 1] = 0.0
 
 
+@njit(cache=True, inline="always")
+def _heat_slave_cells(q, cb, ca, wb, cell_mass, energy):
+    """Put the slave side's heat q (J) into its two cells, share wb to the cell before the node (cb) and the rest to
+    the one after (ca); a cell index < 0 gives its share to the other cell."""
+    if cb < 0:
+        wb = 0.0
+    if ca < 0:
+        wb = 1.0
+    if cb >= 0 and wb > 0.0:
+        energy[cb] += wb * q / cell_mass[cb]
+    if ca >= 0 and wb < 1.0:
+        energy[ca] += (1.0 - wb) * q / cell_mass[ca]
+
+
 @njit(cache=True)
 def deposit_friction_heat(work, active, seg, slave_share, slave_cell_before, slave_cell_after,
                           weight_before, guide_cell, cell_mass, energy):
@@ -336,17 +350,7 @@ def deposit_friction_heat(work, active, seg, slave_share, slave_cell_before, sla
             continue
         q_slave = slave_share * work[j]
         q_guide = work[j] - q_slave
-        cb = slave_cell_before[j]
-        ca = slave_cell_after[j]
-        wb = weight_before[j]
-        if cb < 0:
-            wb = 0.0
-        if ca < 0:
-            wb = 1.0
-        if cb >= 0 and wb > 0.0:
-            energy[cb] += wb * q_slave / cell_mass[cb]
-        if ca >= 0 and wb < 1.0:
-            energy[ca] += (1.0 - wb) * q_slave / cell_mass[ca]
+        _heat_slave_cells(q_slave, slave_cell_before[j], slave_cell_after[j], weight_before[j], cell_mass, energy)
         cg = guide_cell[seg[j]]
         energy[cg] += q_guide / cell_mass[cg]
 
@@ -383,17 +387,7 @@ def deposit_contact_heat(work, active, slave, gnode, gw, mass, slave_cell_before
             m_guide += gw[j, k] * mass[gnode[j, k]]
         q_slave = m_guide / (mass[i_g] + m_guide) * work[j]
         q_guide = work[j] - q_slave
-        cb = slave_cell_before[j]
-        ca = slave_cell_after[j]
-        wb = weight_before[j]
-        if cb < 0:
-            wb = 0.0
-        if ca < 0:
-            wb = 1.0
-        if cb >= 0 and wb > 0.0:
-            energy[cb] += wb * q_slave / cell_mass[cb]
-        if ca >= 0 and wb < 1.0:
-            energy[ca] += (1.0 - wb) * q_slave / cell_mass[ca]
+        _heat_slave_cells(q_slave, slave_cell_before[j], slave_cell_after[j], weight_before[j], cell_mass, energy)
         for k in range(gnode.shape[1]):
             w = gw[j, k]
             if w == 0.0:

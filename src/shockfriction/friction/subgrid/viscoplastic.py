@@ -1061,7 +1061,6 @@ class ViscoplasticColumns:
         self._dt_prev = np.zeros(2)  # their time steps (0: none); the three are checkpointed with the state
         self._work = np.empty((N_WORK, nn + 1, nc))  # the kernel's scratch, allocated once
         self.TF = np.full(nc, float(T_F))  # melting temperature of each column at its last step
-        self._v_far = np.zeros(nc)
         # the other body's thermal column (two-sided heat): first cell as the column's, geometric (other_ratio) down
         # to the column's thermal reach scaled by the diffusivities, sqrt(alpha2/alpha1) z[-1]
         if other is not None:
@@ -1077,13 +1076,11 @@ class ViscoplasticColumns:
             self._c2 = rc2 * control_weights(self.z_other)
             self._a2 = other.conductivity / np.diff(self.z_other)
             self.T_other = np.full((self.z_other.size, nc), self.T0)
-            self._rc2 = rc2
         else:
             self.z_other = np.zeros(0)
             self._c2 = np.zeros(0)
             self._a2 = np.zeros(0)
             self.T_other = np.zeros((0, nc))
-            self._rc2 = 0.0
         self._oth = np.empty((2, self.z_other.size, nc))
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
