@@ -182,6 +182,8 @@ class Simulation:
         self._bc_ptr = np.searchsorted(c.node[order], np.append(self._bc_nodes, nn)).astype(np.int64)
         self._bc_cons = order
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
+        # position shifts' scratch (a tuple: no checkpoint keeps it): the nodes they move, zeros (never written)
+        self._shift_scratch = (np.zeros(nn, np.bool_), np.zeros(nn))
         self._grp = (problem.groups.ptr, problem.groups.nodes)
         # the one-thread cycle's wavefront (steps of `wave` cells; one step of all cells on a smaller mesh):
         # (node_wait, cell_wait, zero_wait, wave) and its ring of viscous corner forces (in tuples: scratch that
@@ -457,23 +459,22 @@ class Simulation:
         projection work (a measure, not in the balance)."""
         s = self.state
         sx, sy = s.shift_x, s.shift_y
-        if not (sx.any() or sy.any()):
+        if not K.any_shifted(sx, sy):
             return
+        moved, zero = self._shift_scratch
         if self._grp[0].shape[0] > 1:
-            zero = np.zeros_like(sx)
             K.sync_groups(sx, sy, zero, zero, *self._grp)
-        K.apply_constraints(sx, sy, sx.copy(), sy.copy(), s.mass_own, *self._cons_fixed, 0.0)
-        # a group's force is the group sum, given to each member: weight by mass_own/mass
-        moved = (sx != 0.0) | (sy != 0.0)
+        # (the reactions' work, computed from the "old" values passed here, is not wanted: zeros will do)
+        K.apply_constraints(sx, sy, zero, zero, s.mass_own, *self._cons_fixed, 0.0)
+        # a group's force is the group sum, given to each member: weight by mass_own/mass.  Moves x^n, zeroes the
+        # shifts and marks the nodes moved (after the groups and constraints) in ``moved``
         shift = K.shift_nodes_parallel if self.parallel else K.shift_nodes
-        w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1])  # moves x^n, zeroes the shifts
+        w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1], moved)
         s.energy.projection_work += w
         # energy-neutral: the cells touching a shifted node take their volume at the shifted x^n as V^n, so the
         # cell update's -p dV sees only the motion over the step, not the shift (e is kept across the shift)
-        cells = np.flatnonzero(moved[s.conn].any(axis=1))
-        vol = np.empty(cells.size)
-        K.cell_volumes(s.conn[cells], s.x, s.y, s.axisymmetric, vol)
-        s.volume[cells] = vol
+        volumes = K.shifted_volumes_parallel if self.parallel else K.shifted_volumes
+        volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume)
 
     def _advance_stage(self) -> None:
         """Steps 5-6: positions, cells, next time step."""
