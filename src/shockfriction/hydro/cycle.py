@@ -64,6 +64,10 @@ class Interface(Protocol):
     def apply(self, state, dt: float, t: float, cycle: int) -> None: ...
 
 
+# the staged cycle's node passes run in parallel from this many nodes (Simulation._passes_parallel): on the 16-core
+# device machine, a 31 921-cell cone shot's passes (32 k nodes) took longer on 16 threads than on one
+STAGED_PARALLEL_NODES = 131072
+
 ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
                   "friction_work", "friction_heat", "column_heat", "contact_work", "contact_heat", "projection_work",
                   "error")
@@ -305,6 +309,15 @@ class Simulation:
             obj.after_step(self.state, dt, self.state.t, self.state.cycle)
 
     @property
+    def _passes_parallel(self) -> bool:
+        """The staged cycle's (interfaces, probes) node passes between the force pass and the cell update (free
+        velocities, the jumps' works, position shifts, kinetic energy, viscous heat, positions) in parallel: with
+        the parallel kernels on a mesh of :data:`STAGED_PARALLEL_NODES` nodes or more.  On a smaller mesh each pass
+        is shorter than the wake-up of the sleeping workers it would take (docs/theory/threads.md); the serial and
+        parallel passes give the same bytes."""
+        return self.parallel and self.state.n_nodes >= STAGED_PARALLEL_NODES
+
+    @property
     def _plain_serial(self) -> bool:
         """One thread and no interfaces this step or the last: steps 1-3 run as one call."""
         return not (self.parallel or self.interfaces or self._int_active)
@@ -340,7 +353,7 @@ class Simulation:
                 K.sum_groups(s.fx, s.fy, *self._grp)
             q_before = en.interface_heat
             # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
-            advance = K.advance_velocities_parallel if self.parallel else K.advance_velocities
+            advance = K.advance_velocities_parallel if self._passes_parallel else K.advance_velocities
             advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
                                  self._vy_pre, True)
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
@@ -384,7 +397,7 @@ class Simulation:
         # heat put into cells during this step counts half at t^n (it is centred there)
         q_int = 0.5 * (q_before + en.interface_heat)
         if ke is None:
-            if self.parallel:
+            if self._passes_parallel:
                 ke = K.kinetic_energy_product_parallel(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own,
                                                        self._sums[1])
             else:
@@ -393,7 +406,7 @@ class Simulation:
         if in_update:
             self._pending_row = (ke, ie, q_int - q_before, budget)
             return
-        if self.parallel:
+        if self._passes_parallel:
             qv = K.viscous_heat_parallel(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv,
                                          s.cell_mass, s.e, self._sums[2])
         else:
@@ -448,7 +461,7 @@ class Simulation:
 
     def _impulse_work(self, nodes, *args) -> float:
         """:func:`~shockfriction.hydro.kernels.impulse_work`, in parallel over many nodes (the same sum)."""
-        if self.parallel and nodes.shape[0] > 4 * K.SUM_CHUNK:
+        if self._passes_parallel and nodes.shape[0] > 4 * K.SUM_CHUNK:
             return K.impulse_work_parallel(nodes, *args, self._sums[1])
         return K.impulse_work(nodes, *args)
 
@@ -468,12 +481,12 @@ class Simulation:
         K.apply_constraints(sx, sy, zero, zero, s.mass_own, *self._cons_fixed, 0.0)
         # a group's force is the group sum, given to each member: weight by mass_own/mass.  Moves x^n, zeroes the
         # shifts and marks the nodes moved (after the groups and constraints) in ``moved``
-        shift = K.shift_nodes_parallel if self.parallel else K.shift_nodes
+        shift = K.shift_nodes_parallel if self._passes_parallel else K.shift_nodes
         w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1], moved)
         s.energy.projection_work += w
         # energy-neutral: the cells touching a shifted node take their volume at the shifted x^n as V^n, so the
         # cell update's -p dV sees only the motion over the step, not the shift (e is kept across the shift)
-        volumes = K.shifted_volumes_parallel if self.parallel else K.shifted_volumes
+        volumes = K.shifted_volumes_parallel if self._passes_parallel else K.shifted_volumes
         volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume)
 
     def _advance_stage(self) -> None:
@@ -482,7 +495,8 @@ class Simulation:
         dt = s.dt
         # 5 positions
         if self.parallel:
-            K.move_nodes_parallel(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
+            move = K.move_nodes_parallel if self._passes_parallel else K.move_nodes
+            move(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
         # 6 cells (serial: 5 and 6 in one call)
         args = (s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
                 s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,
