@@ -36,9 +36,9 @@ from shockfriction.friction.laws import FRICTIONLESS
 
 # a slide line's geometry (pairing, hat coordinates and weights) runs over its slave nodes in parallel when the
 # hydro kernels are the parallel ones and it has this many slave nodes (the same bytes: each node is independent).
-# About 1 us per node: on the 16-core device machine the cone shot's 306-node line took 0.46 ms per call on 16
-# threads against 0.27 ms on one (waking the workers costs more), so only long lines take it
-PARALLEL_MIN_NODES = 1024
+# 1: every line; on the 16-core device machine the cone shot (lines of 306 and 21 slave nodes) ran faster so, with
+# the staged cycle's node passes parallel too, than with both serial (docs/theory/threads.md)
+PARALLEL_MIN_NODES = 1
 
 
 @dataclass

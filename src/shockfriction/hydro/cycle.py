@@ -64,9 +64,10 @@ class Interface(Protocol):
     def apply(self, state, dt: float, t: float, cycle: int) -> None: ...
 
 
-# the staged cycle's node passes run in parallel from this many nodes (Simulation._passes_parallel): on the 16-core
-# device machine, a 31 921-cell cone shot's passes (32 k nodes) took longer on 16 threads than on one
-STAGED_PARALLEL_NODES = 131072
+# the staged cycle's node passes run in parallel from this many nodes (Simulation._passes_parallel).  0: always, on
+# the parallel path.  On the 16-core device machine the cone shot (32 k nodes) ran 1.44 s with its passes serial
+# (from 131 072 nodes) and 0.89 s with them parallel on 16 threads, 1.28 / 0.86 s on 8 (docs/theory/threads.md)
+STAGED_PARALLEL_NODES = 0
 
 ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
                   "friction_work", "friction_heat", "column_heat", "contact_work", "contact_heat", "projection_work",
@@ -312,8 +313,7 @@ class Simulation:
     def _passes_parallel(self) -> bool:
         """The staged cycle's (interfaces, probes) node passes between the force pass and the cell update (free
         velocities, the jumps' works, position shifts, kinetic energy, viscous heat, positions) in parallel: with
-        the parallel kernels on a mesh of :data:`STAGED_PARALLEL_NODES` nodes or more.  On a smaller mesh each pass
-        is shorter than the wake-up of the sleeping workers it would take (docs/theory/threads.md); the serial and
+        the parallel kernels on a mesh of :data:`STAGED_PARALLEL_NODES` nodes or more (0: any).  The serial and
         parallel passes give the same bytes."""
         return self.parallel and self.state.n_nodes >= STAGED_PARALLEL_NODES
 
