@@ -26,8 +26,8 @@ import shockfriction.hydro.cycle as cycle
 from shockfriction.hydro.api import prepare
 
 # the slide lines' parallel geometry on every line and the staged cycle's parallel node passes on every mesh (the
-# coarse cone shot's lines have 21 and 76 slave nodes and its mesh 2 k nodes, fewer than the sizes from which a
-# run takes them)
+# defaults now; kept here should the sizes from which a run takes them rise above the coarse cone shot's lines of
+# 21 and 76 slave nodes and its 2 k nodes)
 slideline.PARALLEL_MIN_NODES = 1
 cycle.STAGED_PARALLEL_NODES = 0
 
