@@ -217,10 +217,18 @@ def scaling(args) -> None:
         sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples"))
         from cone_shot import cone_deck  # examples/cone_shot.py
 
+        from shockfriction.contact import slideline
+        from shockfriction.hydro import cycle
+
+        sizes = getattr(slideline, "PARALLEL_MIN_NODES", 0), getattr(cycle, "STAGED_PARALLEL_NODES", 0)
         for law in args.cone_laws:
-            for t in counts:  # compile outside the timings
+            # compile outside the timings (the parallel slide-line geometry and node passes too: the coarse shot is
+            # smaller than the sizes from which a run takes them)
+            slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES = 1, 0
+            for t in counts:
                 use(t)
                 run_simulation(plain(prepare(cone_deck(law, 0.3, 0.7, cell_um=400.0, threads=t, end_us=0.3))))
+            slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES = sizes
             walls = {t: [] for t in counts}
             info = ""
             for _ in range(args.repeat):

@@ -2,7 +2,9 @@
 cone shot with its slide line and sub-grid columns, stepped on 1 thread (the serial kernels) and on 2, 3 and 4 (the
 partitioned parallel kernels: 3 and 4 are more threads than a 2-core machine has, numba runs them all the same, and
 give uneven partitions), every state array and every history row equal.  Run in a child process with
-``NUMBA_NUM_THREADS=4`` (numba reads it when it starts)."""
+``NUMBA_NUM_THREADS=4`` (numba reads it when it starts).  On 2, 3 and 4 threads the slide lines take their
+parallel path too (the geometry over the slave nodes), and the staged cycle its parallel node passes (free
+velocities, jumps' works, position shifts, positions), whatever the sizes."""
 
 import json
 import os
@@ -19,7 +21,15 @@ CHILD = r'''
 import json, sys
 import numba
 import numpy as np
+import shockfriction.contact.slideline as slideline
+import shockfriction.hydro.cycle as cycle
 from shockfriction.hydro.api import prepare
+
+# the slide lines' parallel geometry on every line and the staged cycle's parallel node passes on every mesh (the
+# defaults now; kept here should the sizes from which a run takes them rise above the coarse cone shot's lines of
+# 21 and 76 slave nodes and its 2 k nodes)
+slideline.PARALLEL_MIN_NODES = 1
+cycle.STAGED_PARALLEL_NODES = 0
 
 def state_arrays(sim):
     out = {k: v for k, v in vars(sim.state).items() if isinstance(v, np.ndarray)}

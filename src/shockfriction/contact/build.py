@@ -34,6 +34,8 @@ class SlideLineInterface:
         self._step = None          # (v^{n-1/2} x and y, dt, dt_pos) between apply and after_interfaces: scratch
         if simulation is not None and hasattr(simulation, "_vx_old"):
             self._v_old = (simulation._vx_old, simulation._vy_old)
+        # the simulation, for its kernels' choice (parallel or serial) at each step (no checkpoint keeps it)
+        self._sim = simulation
         # the simulation calls after_interfaces once every interface has corrected the velocities
         self._deferred = bool(getattr(simulation, "calls_after_interfaces", False))
 
@@ -56,7 +58,8 @@ class SlideLineInterface:
         line.apply(state.x, state.y, state.vx, state.vy, state.mass, dt, t, dt_position=dt_pos,
                    vx_old=vx_old, vy_old=vy_old, cell_yield=state.yield_stress, cell_mass=state.cell_mass,
                    cell_energy=state.e, shift_x=getattr(state, "shift_x", None),
-                   shift_y=getattr(state, "shift_y", None), deferred=True)
+                   shift_y=getattr(state, "shift_y", None), deferred=True,
+                   parallel=bool(getattr(self._sim, "parallel", False)))
         if not self._deferred:
             self.after_interfaces(state, dt, t, cycle)
 

@@ -73,6 +73,18 @@ def _inverse_pair_mass(j, i_g, gnode, gw, mass):
 
 
 @njit(cache=True)
+def _inverse_pair_masses(slave, gnode, gw, mass, active):
+    """:func:`_inverse_pair_mass` of every active pair (0 for the others), once per step: the masses do not change
+    during the sweeps."""
+    ns = slave.size
+    inv = np.zeros(ns)
+    for j in range(ns):
+        if active[j]:
+            inv[j] = _inverse_pair_mass(j, slave[j], gnode, gw, mass)
+    return inv
+
+
+@njit(cache=True)
 def _relative_velocity(vx, vy, j, i_g, gnode, gw, dx, dy):
     """(v_g - v_G).d with v_G = sum_i w_i v_i."""
     ux = vx[i_g]
@@ -111,6 +123,7 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
     ns = slave.size
     for j in range(ns):
         lam_n[j] = 0.0
+    inv = _inverse_pair_masses(slave, gnode, gw, mass, active)
     scale = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
@@ -120,7 +133,7 @@ def normal_step(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, dt, bilater
             if not active[j]:
                 continue
             i_g = slave[j]
-            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            inv_pair = inv[j]
             w = _relative_velocity(vx, vy, j, i_g, gnode, gw, nx[j], ny[j])
             target = -gap[j] / dt if gap[j] > 0.0 else 0.0
             new = lam_n[j] + (target - w) / inv_pair
@@ -156,6 +169,7 @@ def penetration_projection(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, 
     ns = slave.size
     for j in range(ns):
         lam_p[j] = 0.0
+    inv = _inverse_pair_masses(slave, gnode, gw, mass, active)
     scale = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
@@ -169,7 +183,7 @@ def penetration_projection(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, 
                     + _relative_velocity(sx, sy, j, i_g, gnode, gw, nx[j], ny[j]))
             if pred >= 0.0 and lam_p[j] == 0.0:
                 continue
-            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            inv_pair = inv[j]
             new = lam_p[j] - pred / inv_pair
             if new < 0.0:
                 new = 0.0
@@ -246,6 +260,7 @@ def tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, dt, area,
             continue
         sigma[j] = lam_n[j] / (dt * area[j])
         cap[j] = traction_limit(law, law_params, sigma[j], abs(s), y_slave[j], y_guide[j]) * area[j] * dt
+    inv = _inverse_pair_masses(slave, gnode, gw, mass, active)
     scale = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
@@ -255,7 +270,7 @@ def tangential_step(vx, vy, mass, slave, gnode, gw, tx, ty, active, dt, area,
             if sigma[j] == 0.0 or (theta == 0.0 and cap[j] <= 0.0):
                 continue
             i_g = slave[j]
-            inv_pair = _inverse_pair_mass(j, i_g, gnode, gw, mass)
+            inv_pair = inv[j]
             s = _relative_velocity(vx, vy, j, i_g, gnode, gw, tx[j], ty[j])
             if theta > 0.0:    # the law at the slip after this node's correction (s - lam_t/inv is its free slip)
                 s_own = abs(s - lam_t[j] * inv_pair)

@@ -29,7 +29,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
+
+from shockfriction.hydro.kernels import _twin
 
 COEF_TOL = 1e-9
 
@@ -203,6 +205,91 @@ def _segment_far(px, py, gx, gy, k, bound):
 
 
 @njit(cache=True)
+def _pair_node(j, xs, ys, gx, gy, normal_sign, max_gap, max_penetration, chunk, box, pad, seg, coef, nx, ny,
+               tx, ty, gap, active):
+    """Slave node j, at (xs, ys), of :func:`pair_slave_nodes_local` (it reads and writes only entry j)."""
+    nseg = gx.size - 1
+    hmax = max(max_gap, max_penetration)
+    sbest = math.inf     # best segment: |g|, index
+    sk = -1
+    sc = 0.0
+    snx = 0.0
+    sny = 0.0
+    stx = 0.0
+    sty = 0.0
+    sg = 0.0
+    cbest = math.inf     # best convex corner: distance, point index
+    ck = -1
+    cnx = 0.0
+    cny = 0.0
+    ctx = 0.0
+    cty = 0.0
+    s0 = seg[j]
+    lo = 0
+    hi = -1
+    if 0 <= s0 < nseg:
+        lo = max(s0 - WALK, 0)
+        hi = min(s0 + WALK, nseg - 1)
+    for sweep in range(2):
+        # sweep 0: the walk around the seed; sweep 1: the other segments of the chunks within the bound
+        nch = 1 if sweep == 0 else box.shape[0]
+        for c in range(nch):
+            if sweep == 0:
+                a = lo
+                b = hi + 1
+            else:
+                bound = min(min(sbest, cbest), hmax) + pad
+                if _box_distance(xs, ys, box[c, 0], box[c, 1], box[c, 2], box[c, 3]) > bound:
+                    continue
+                a = c * chunk
+                b = min((c + 1) * chunk, nseg)
+            for k in range(a, b):
+                if sweep == 1 and lo <= k <= hi:
+                    continue
+                bound = min(min(sbest, cbest), hmax) + pad
+                if _segment_far(xs, ys, gx, gy, k, bound):
+                    continue
+                ok, cf, n_x, n_y, t_x, t_y, g = _segment_test(xs, ys, gx, gy, k, normal_sign, max_gap,
+                                                              max_penetration)
+                if ok and (abs(g) < sbest or (abs(g) == sbest and k < sk)):
+                    sbest = abs(g)
+                    sk = k
+                    sc = cf
+                    snx = n_x
+                    sny = n_y
+                    stx = t_x
+                    sty = t_y
+                    sg = g
+                if 1 <= k <= nseg - 1:
+                    ok, d, n_x, n_y, t_x, t_y = _corner_test(xs, ys, gx, gy, k, normal_sign, max_gap)
+                    if ok and (d < cbest or (d == cbest and k < ck)):
+                        cbest = d
+                        ck = k
+                        cnx = n_x
+                        cny = n_y
+                        ctx = t_x
+                        cty = t_y
+    if ck >= 0 and cbest < sbest:
+        seg[j] = ck - 1
+        coef[j] = 1.0
+        nx[j] = cnx
+        ny[j] = cny
+        tx[j] = ctx
+        ty[j] = cty
+        gap[j] = cbest
+        active[j] = True
+    else:
+        seg[j] = sk
+        active[j] = sk >= 0
+        coef[j] = sc
+        nx[j] = snx
+        ny[j] = sny
+        tx[j] = stx
+        ty[j] = sty
+        gap[j] = sg if sk >= 0 else 0.0
+
+
+@njit(cache=True)
 def pair_slave_nodes_local(x, y, slave, gx, gy, normal_sign, max_gap, max_penetration, chunk, box, pad,
                            seg, coef, nx, ny, tx, ty, gap, active):
     """:func:`pair_slave_nodes` searched from each node's previous segment: the same pairs.
@@ -217,88 +304,9 @@ def pair_slave_nodes_local(x, y, slave, gx, gy, normal_sign, max_gap, max_penetr
     then lowest index; a corner wins over the segments only when strictly closer), on the
     first cycle, after a separation, a jump or on a folded guide alike (those only cost more boxes).
     """
-    nseg = gx.size - 1
-    hmax = max(max_gap, max_penetration)
     for j in range(slave.size):
-        xs = x[slave[j]]
-        ys = y[slave[j]]
-        sbest = math.inf     # best segment: |g|, index
-        sk = -1
-        sc = 0.0
-        snx = 0.0
-        sny = 0.0
-        stx = 0.0
-        sty = 0.0
-        sg = 0.0
-        cbest = math.inf     # best convex corner: distance, point index
-        ck = -1
-        cnx = 0.0
-        cny = 0.0
-        ctx = 0.0
-        cty = 0.0
-        s0 = seg[j]
-        lo = 0
-        hi = -1
-        if 0 <= s0 < nseg:
-            lo = max(s0 - WALK, 0)
-            hi = min(s0 + WALK, nseg - 1)
-        for sweep in range(2):
-            # sweep 0: the walk around the seed; sweep 1: the other segments of the chunks within the bound
-            nch = 1 if sweep == 0 else box.shape[0]
-            for c in range(nch):
-                if sweep == 0:
-                    a = lo
-                    b = hi + 1
-                else:
-                    bound = min(min(sbest, cbest), hmax) + pad
-                    if _box_distance(xs, ys, box[c, 0], box[c, 1], box[c, 2], box[c, 3]) > bound:
-                        continue
-                    a = c * chunk
-                    b = min((c + 1) * chunk, nseg)
-                for k in range(a, b):
-                    if sweep == 1 and lo <= k <= hi:
-                        continue
-                    bound = min(min(sbest, cbest), hmax) + pad
-                    if _segment_far(xs, ys, gx, gy, k, bound):
-                        continue
-                    ok, cf, n_x, n_y, t_x, t_y, g = _segment_test(xs, ys, gx, gy, k, normal_sign, max_gap,
-                                                                  max_penetration)
-                    if ok and (abs(g) < sbest or (abs(g) == sbest and k < sk)):
-                        sbest = abs(g)
-                        sk = k
-                        sc = cf
-                        snx = n_x
-                        sny = n_y
-                        stx = t_x
-                        sty = t_y
-                        sg = g
-                    if 1 <= k <= nseg - 1:
-                        ok, d, n_x, n_y, t_x, t_y = _corner_test(xs, ys, gx, gy, k, normal_sign, max_gap)
-                        if ok and (d < cbest or (d == cbest and k < ck)):
-                            cbest = d
-                            ck = k
-                            cnx = n_x
-                            cny = n_y
-                            ctx = t_x
-                            cty = t_y
-        if ck >= 0 and cbest < sbest:
-            seg[j] = ck - 1
-            coef[j] = 1.0
-            nx[j] = cnx
-            ny[j] = cny
-            tx[j] = ctx
-            ty[j] = cty
-            gap[j] = cbest
-            active[j] = True
-        else:
-            seg[j] = sk
-            active[j] = sk >= 0
-            coef[j] = sc
-            nx[j] = snx
-            ny[j] = sny
-            tx[j] = stx
-            ty[j] = sty
-            gap[j] = sg if sk >= 0 else 0.0
+        _pair_node(j, x[slave[j]], y[slave[j]], gx, gy, normal_sign, max_gap, max_penetration, chunk, box, pad, seg,
+                   coef, nx, ny, tx, ty, gap, active)
 
 
 def guide_normal_sign(x: np.ndarray, y: np.ndarray, guide: np.ndarray, inside_x: float, inside_y: float) -> float:
@@ -434,37 +442,45 @@ def slave_hat_coordinates(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, 
     point is searched from the node's own segment (:func:`closest_guide_coordinate_local`, the
     same coordinates); without it over the whole guide.
     """
+    for j in range(xs.size):
+        _hat_node(j, xs[j], ys[j], prev_dx[j], prev_dy[j], next_dx[j], next_dy[j], has_prev[j], has_next[j], seg,
+                  coef, active, gx, gy, periodic, xi_prev, xi_node, xi_next, chunk, box, pad)
+
+
+@njit(cache=True)
+def _hat_node(j, xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active, gx, gy, periodic,
+              xi_prev, xi_node, xi_next, chunk, box, pad):
+    """Slave node j of :func:`slave_hat_coordinates` (the node at (xs, ys), its offsets to its neighbours)."""
     period = gx.size - 1.0
     dxp = gx[-1] - gx[0]
     dyp = gy[-1] - gy[0]
     d2 = dxp * dxp + dyp * dyp
-    for j in range(xs.size):
-        xi0 = seg[j] + coef[j]
-        xi_node[j] = xi0
-        xi_prev[j] = xi0
-        xi_next[j] = xi0
-        if not active[j]:
+    xi0 = seg[j] + coef[j]
+    xi_node[j] = xi0
+    xi_prev[j] = xi0
+    xi_next[j] = xi0
+    if not active[j]:
+        return
+    for side in range(2):
+        has = has_prev if side == 0 else has_next
+        if not has:
             continue
-        for side in range(2):
-            has = has_prev[j] if side == 0 else has_next[j]
-            if not has:
-                continue
-            mx = xs[j] + (prev_dx[j] if side == 0 else next_dx[j])
-            my = ys[j] + (prev_dy[j] if side == 0 else next_dy[j])
-            shift = 0.0
-            if periodic:    # the node lies in the guide's span: count the periods to its neighbour
-                shift = math.floor(((mx - gx[0]) * dxp + (my - gy[0]) * dyp) / d2)
-                mx -= shift * dxp
-                my -= shift * dyp
-            if box is None:
-                xi = closest_guide_coordinate(mx, my, gx, gy)
-            else:
-                xi = closest_guide_coordinate_local(mx, my, gx, gy, seg[j], chunk, box, pad)
-            xi += shift * period
-            if side == 0:
-                xi_prev[j] = xi
-            else:
-                xi_next[j] = xi
+        mx = xs + (prev_dx if side == 0 else next_dx)
+        my = ys + (prev_dy if side == 0 else next_dy)
+        shift = 0.0
+        if periodic:    # the node lies in the guide's span: count the periods to its neighbour
+            shift = math.floor(((mx - gx[0]) * dxp + (my - gy[0]) * dyp) / d2)
+            mx -= shift * dxp
+            my -= shift * dyp
+        if box is None:
+            xi = closest_guide_coordinate(mx, my, gx, gy)
+        else:
+            xi = closest_guide_coordinate_local(mx, my, gx, gy, seg[j], chunk, box, pad)
+        xi += shift * period
+        if side == 0:
+            xi_prev[j] = xi
+        else:
+            xi_next[j] = xi
 
 
 @njit(cache=True)
@@ -478,8 +494,7 @@ def _add_weight(gnode, gw, j, used, node, c):
     return used + 1
 
 
-@njit(cache=True)
-def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_nodes, periodic, gnode, gw,
+def _hat_weights_impl(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_nodes, periodic, gnode, gw,
                 xbar, ybar):
     """Mortar-type guide weights: w_ij = int N_i N_j r dl / int N_j r dl over the guide.
 
@@ -501,7 +516,7 @@ def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_
     dxp = gx[-1] - gx[0]
     dyp = gy[-1] - gy[0]
     kmax = gnode.shape[1]
-    for j in range(xi_node.size):
+    for j in prange(xi_node.size):    # row j of gnode, gw, xbar, ybar only: the nodes in any order
         for q in range(kmax):
             gnode[j, q] = guide_nodes[0]
             gw[j, q] = 0.0
@@ -560,6 +575,9 @@ def hat_weights(xi_prev, xi_node, xi_next, seg, coef, active, gx, gy, gr, guide_
             if gnode[j, 1] == gnode[j, 0]:
                 gw[j, 0] = 1.0
                 gw[j, 1] = 0.0
+
+hat_weights = njit(cache=True)(_hat_weights_impl)
+hat_weights_parallel = njit(cache=True, parallel=True)(_twin(_hat_weights_impl, "_parallel"))
 
 
 @njit(cache=True)
@@ -621,10 +639,9 @@ def heat_weights_kernel(x, y, side, periodic, w):
         w[j] = before / tot if tot > 0.0 else 0.5
 
 
-@njit(cache=True)
-def contact_geometry(x, y, slave, slave_side, guide, periodic, axisymmetric, radius_axis, normal_sign, max_gap,
-                     max_penetration, hat, chunk, box, gx, gy, xs, ys, seg, coef, nx, ny, tx, ty, gap, gap_point,
-                     active, area, xi_prev, xi_node, xi_next):
+def _contact_geometry_impl(x, y, slave, slave_side, guide, periodic, axisymmetric, radius_axis, normal_sign, max_gap,
+                           max_penetration, hat, chunk, box, gx, gy, xs, ys, seg, coef, nx, ny, tx, ty, gap, gap_point,
+                           active, area, xi_prev, xi_node, xi_next):
     """One cycle's geometry of a slide line, in place; returns the columns its hat weights need.
 
     Guide polyline ``gx, gy`` = x[guide], y[guide]; slave coordinates ``xs, ys`` (shifted by whole
@@ -632,10 +649,13 @@ def contact_geometry(x, y, slave, slave_side, guide, periodic, axisymmetric, rad
     seeded by ``seg`` of the previous cycle), the nodal surfaces ``area``
     (:func:`slave_nodal_areas`), the point gap ``gap_point`` and, with ``hat``, the guide
     coordinates of the slave hats (:func:`slave_hat_coordinates`).  The returned width is
-    max(2, the most guide segments a hat spans + 2).
+    max(2, the most guide segments a hat spans + 2).  The slave nodes' pairings and hat coordinates are
+    independent of each other: ``contact_geometry_parallel`` runs them over the nodes in parallel (the same
+    bytes).
     """
     ng = guide.size
     ns = slave.size
+    nside = slave_side.size
     for i in range(ng):
         gx[i] = x[guide[i]]
         gy[i] = y[guide[i]]
@@ -648,44 +668,47 @@ def contact_geometry(x, y, slave, slave_side, guide, periodic, axisymmetric, rad
             k = math.floor(((xs[j] - gx[0]) * dxp + (ys[j] - gy[0]) * dyp) / (dxp * dxp + dyp * dyp))
             xs[j] -= k * dxp
             ys[j] -= k * dyp
-    idx = np.arange(ns)
     pad = guide_chunk_boxes(gx, gy, chunk, box)
-    pair_slave_nodes_local(xs, ys, idx, gx, gy, normal_sign, max_gap, max_penetration, chunk, box, pad,
-                           seg, coef, nx, ny, tx, ty, gap, active)
-    _nodal_areas(x, y, slave_side, axisymmetric, radius_axis, periodic, area)
-    for j in range(ns):
+    for j in prange(ns):
+        # the pairing of node j (its coordinates xs, ys: slave index j of an identity map)
+        _pair_node(j, xs[j], ys[j], gx, gy, normal_sign, max_gap, max_penetration, chunk, box, pad, seg, coef, nx,
+                   ny, tx, ty, gap, active)
         gap_point[j] = gap[j]
+        if hat:
+            # offsets to the previous and next slave node along the side (periodic: across the seam)
+            next_dx = 0.0
+            next_dy = 0.0
+            prev_dx = 0.0
+            prev_dy = 0.0
+            has_next = False
+            has_prev = False
+            if j < nside - 1:
+                next_dx = x[slave_side[j + 1]] - x[slave_side[j]]
+                next_dy = y[slave_side[j + 1]] - y[slave_side[j]]
+                has_next = True
+            if j > 0:
+                prev_dx = -(x[slave_side[j]] - x[slave_side[j - 1]])
+                prev_dy = -(y[slave_side[j]] - y[slave_side[j - 1]])
+                has_prev = True
+            elif periodic:
+                prev_dx = -(x[slave_side[nside - 1]] - x[slave_side[nside - 2]])
+                prev_dy = -(y[slave_side[nside - 1]] - y[slave_side[nside - 2]])
+                has_prev = True
+            _hat_node(j, xs[j], ys[j], prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active,
+                      gx, gy, periodic, xi_prev, xi_node, xi_next, chunk, box, pad)
+    _nodal_areas(x, y, slave_side, axisymmetric, radius_axis, periodic, area)
     if not hat:
         return 2
-    # offsets to the previous and next slave node along the side (periodic: across the seam)
-    nside = slave_side.size
-    prev_dx = np.zeros(ns)
-    prev_dy = np.zeros(ns)
-    next_dx = np.zeros(ns)
-    next_dy = np.zeros(ns)
-    has_prev = np.zeros(ns, np.bool_)
-    has_next = np.zeros(ns, np.bool_)
-    for j in range(ns):
-        if j < nside - 1:
-            next_dx[j] = x[slave_side[j + 1]] - x[slave_side[j]]
-            next_dy[j] = y[slave_side[j + 1]] - y[slave_side[j]]
-            has_next[j] = True
-        if j > 0:
-            prev_dx[j] = -(x[slave_side[j]] - x[slave_side[j - 1]])
-            prev_dy[j] = -(y[slave_side[j]] - y[slave_side[j - 1]])
-            has_prev[j] = True
-        elif periodic:
-            prev_dx[j] = -(x[slave_side[nside - 1]] - x[slave_side[nside - 2]])
-            prev_dy[j] = -(y[slave_side[nside - 1]] - y[slave_side[nside - 2]])
-            has_prev[j] = True
-    slave_hat_coordinates(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active,
-                          gx, gy, periodic, xi_prev, xi_node, xi_next, chunk, box, pad)
     width = 0.0
     for j in range(ns):
         if active[j]:
             span = math.ceil(max(xi_prev[j], xi_next[j])) - math.floor(min(xi_prev[j], xi_next[j]))
             width = max(width, span)
     return max(2, int(width) + 2)
+
+
+contact_geometry = njit(cache=True)(_contact_geometry_impl)
+contact_geometry_parallel = njit(cache=True, parallel=True)(_twin(_contact_geometry_impl, "_parallel"))
 
 
 @njit(cache=True)

@@ -28,9 +28,17 @@ from shockfriction.contact.impulses import (accumulate_step, deposit_contact_hea
                                             normal_step,
                                             penetration_projection, point_weights, side_yield_stress,
                                             tangential_step)
-from shockfriction.contact.pairing import (contact_geometry, hat_weights, heat_weights_kernel, projection_gap,
+from shockfriction.contact.pairing import (contact_geometry, contact_geometry_parallel, hat_weights,
+                                           hat_weights_parallel, heat_weights_kernel, projection_gap,
                                            slave_nodal_areas)
 from shockfriction.friction.laws import FRICTIONLESS
+
+
+# a slide line's geometry (pairing, hat coordinates and weights) runs over its slave nodes in parallel when the
+# hydro kernels are the parallel ones and it has this many slave nodes (the same bytes: each node is independent).
+# 1: every line; on the 16-core device machine the cone shot (lines of 306 and 21 slave nodes) ran faster so, with
+# the staged cycle's node passes parallel too, than with both serial (docs/theory/threads.md)
+PARALLEL_MIN_NODES = 1
 
 
 @dataclass
@@ -210,12 +218,15 @@ class SlideLine:
                          np.zeros(ns), np.zeros(ns))
 
     # ------------------------------------------------------------------ geometry
-    def geometry(self, x, y) -> None:
+    def geometry(self, x, y, parallel: bool = False) -> None:
         """This cycle's pairing, nodal surfaces, gaps and projection weights (``seg``, ``coef``, normals,
-        ``gap``, ``gap_point``, ``area``, ``gnode``, ``gw``) at the positions ``x, y``."""
+        ``gap``, ``gap_point``, ``area``, ``gnode``, ``gw``) at the positions ``x, y``.  ``parallel``: over the
+        slave nodes in parallel when there are :data:`PARALLEL_MIN_NODES` or more (the same bytes)."""
         gx, gy, xs, ys, box, xbar, ybar = self._scratch[:7]
         hat = self.guide_share == "segment"
-        width = contact_geometry(x, y, self.slave, self.slave_side, self.guide, self.periodic, self.axisymmetric,
+        parallel = parallel and self.slave.size >= PARALLEL_MIN_NODES
+        geometry = contact_geometry_parallel if parallel else contact_geometry
+        width = geometry(x, y, self.slave, self.slave_side, self.guide, self.periodic, self.axisymmetric,
                                  self.radius_axis, self.normal_sign, self.max_gap, self.max_penetration, hat,
                                  self.search_chunk, box, gx, gy, xs, ys, self.seg, self.coef, self.nx, self.ny,
                                  self.tx, self.ty, self.gap, self.gap_point, self.active, self.area, self.xi_prev,
@@ -228,8 +239,9 @@ class SlideLine:
             point_weights(self.guide_imp, self.seg, self.coef, self.active, self.gnode, self.gw)
             return
         gr = (gx if self.radius_axis == 0 else gy) if self.axisymmetric else np.ones_like(gx)
-        hat_weights(self.xi_prev, self.xi_node, self.xi_next, self.seg, self.coef, self.active, gx, gy, gr,
-                    self.guide_imp, self.periodic, self.gnode, self.gw, xbar, ybar)
+        weights = hat_weights_parallel if parallel else hat_weights
+        weights(self.xi_prev, self.xi_node, self.xi_next, self.seg, self.coef, self.active, gx, gy, gr,
+                self.guide_imp, self.periodic, self.gnode, self.gw, xbar, ybar)
         # the gap consistent with the averaged guide velocity (equal to the point gap on a flat guide); the
         # projection removes a penetration that both gaps see (the averaged gap of the velocity step differs
         # from the point gap at guide kinks: pushing either alone out pumps energy)
@@ -245,7 +257,7 @@ class SlideLine:
     # ------------------------------------------------------------------ one cycle
     def apply(self, x, y, vx, vy, mass, dt: float, t: float, *, dt_position: float | None = None,
               vx_old=None, vy_old=None, cell_yield=None, cell_mass=None, cell_energy=None,
-              shift_x=None, shift_y=None, deferred: bool = False) -> float:
+              shift_x=None, shift_y=None, deferred: bool = False, parallel: bool = False) -> float:
         """Correct the free velocities ``vx, vy`` in place; return the friction work of this step (J).
 
         ``dt`` is the velocity step (impulse = force dt) and ``dt_position`` the step that takes
@@ -263,12 +275,13 @@ class SlideLine:
         corrections and return 0; the caller calls :meth:`finish_step` once every interface of the
         step has corrected the velocities (the works of the impulses are then those of the final
         v^{n+1/2}: a node that two slide lines share is counted right, and the lines' works sum to
-        the kinetic energy the corrections took).
+        the kinetic energy the corrections took).  ``parallel``: the geometry over the slave nodes in parallel
+        (:meth:`geometry`; the same bytes).
         """
         dt_pos = dt if dt_position is None else float(dt_position)
         if vx_old is None or vy_old is None:
             vx_old, vy_old = vx.copy(), vy.copy()
-        self.geometry(x, y)
+        self.geometry(x, y, parallel)
         self.sweeps_normal = normal_step(vx, vy, mass, self.slave_imp, self.gnode, self.gw, self.nx,
                                          self.ny, self.gap, self.active, dt_pos, self.bilateral, self.max_sweeps,
                                          self.rel_tol, self.lam_n)

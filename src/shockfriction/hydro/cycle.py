@@ -64,6 +64,11 @@ class Interface(Protocol):
     def apply(self, state, dt: float, t: float, cycle: int) -> None: ...
 
 
+# the staged cycle's node passes run in parallel from this many nodes (Simulation._passes_parallel).  0: always, on
+# the parallel path.  On the 16-core device machine the cone shot (32 k nodes) ran 1.44 s with its passes serial
+# (from 131 072 nodes) and 0.89 s with them parallel on 16 threads, 1.28 / 0.86 s on 8 (docs/theory/threads.md)
+STAGED_PARALLEL_NODES = 0
+
 ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
                   "friction_work", "friction_heat", "column_heat", "contact_work", "contact_heat", "projection_work",
                   "error")
@@ -182,6 +187,8 @@ class Simulation:
         self._bc_ptr = np.searchsorted(c.node[order], np.append(self._bc_nodes, nn)).astype(np.int64)
         self._bc_cons = order
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
+        # position shifts' scratch (a tuple: no checkpoint keeps it): the nodes they move, zeros (never written)
+        self._shift_scratch = (np.zeros(nn, np.bool_), np.zeros(nn))
         self._grp = (problem.groups.ptr, problem.groups.nodes)
         # the one-thread cycle's wavefront (steps of `wave` cells; one step of all cells on a smaller mesh):
         # (node_wait, cell_wait, zero_wait, wave) and its ring of viscous corner forces (in tuples: scratch that
@@ -303,6 +310,14 @@ class Simulation:
             obj.after_step(self.state, dt, self.state.t, self.state.cycle)
 
     @property
+    def _passes_parallel(self) -> bool:
+        """The staged cycle's (interfaces, probes) node passes between the force pass and the cell update (free
+        velocities, the jumps' works, position shifts, kinetic energy, viscous heat, positions) in parallel: with
+        the parallel kernels on a mesh of :data:`STAGED_PARALLEL_NODES` nodes or more (0: any).  The serial and
+        parallel passes give the same bytes."""
+        return self.parallel and self.state.n_nodes >= STAGED_PARALLEL_NODES
+
+    @property
     def _plain_serial(self) -> bool:
         """One thread and no interfaces this step or the last: steps 1-3 run as one call."""
         return not (self.parallel or self.interfaces or self._int_active)
@@ -338,7 +353,7 @@ class Simulation:
                 K.sum_groups(s.fx, s.fy, *self._grp)
             q_before = en.interface_heat
             # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
-            advance = K.advance_velocities_parallel if self.parallel else K.advance_velocities
+            advance = K.advance_velocities_parallel if self._passes_parallel else K.advance_velocities
             advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
                                  self._vy_pre, True)
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
@@ -382,7 +397,7 @@ class Simulation:
         # heat put into cells during this step counts half at t^n (it is centred there)
         q_int = 0.5 * (q_before + en.interface_heat)
         if ke is None:
-            if self.parallel:
+            if self._passes_parallel:
                 ke = K.kinetic_energy_product_parallel(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own,
                                                        self._sums[1])
             else:
@@ -391,7 +406,7 @@ class Simulation:
         if in_update:
             self._pending_row = (ke, ie, q_int - q_before, budget)
             return
-        if self.parallel:
+        if self._passes_parallel:
             qv = K.viscous_heat_parallel(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv,
                                          s.cell_mass, s.e, self._sums[2])
         else:
@@ -446,7 +461,7 @@ class Simulation:
 
     def _impulse_work(self, nodes, *args) -> float:
         """:func:`~shockfriction.hydro.kernels.impulse_work`, in parallel over many nodes (the same sum)."""
-        if self.parallel and nodes.shape[0] > 4 * K.SUM_CHUNK:
+        if self._passes_parallel and nodes.shape[0] > 4 * K.SUM_CHUNK:
             return K.impulse_work_parallel(nodes, *args, self._sums[1])
         return K.impulse_work(nodes, *args)
 
@@ -457,23 +472,22 @@ class Simulation:
         projection work (a measure, not in the balance)."""
         s = self.state
         sx, sy = s.shift_x, s.shift_y
-        if not (sx.any() or sy.any()):
+        if not K.any_shifted(sx, sy):
             return
+        moved, zero = self._shift_scratch
         if self._grp[0].shape[0] > 1:
-            zero = np.zeros_like(sx)
             K.sync_groups(sx, sy, zero, zero, *self._grp)
-        K.apply_constraints(sx, sy, sx.copy(), sy.copy(), s.mass_own, *self._cons_fixed, 0.0)
-        # a group's force is the group sum, given to each member: weight by mass_own/mass
-        moved = (sx != 0.0) | (sy != 0.0)
-        shift = K.shift_nodes_parallel if self.parallel else K.shift_nodes
-        w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1])  # moves x^n, zeroes the shifts
+        # (the reactions' work, computed from the "old" values passed here, is not wanted: zeros will do)
+        K.apply_constraints(sx, sy, zero, zero, s.mass_own, *self._cons_fixed, 0.0)
+        # a group's force is the group sum, given to each member: weight by mass_own/mass.  Moves x^n, zeroes the
+        # shifts and marks the nodes moved (after the groups and constraints) in ``moved``
+        shift = K.shift_nodes_parallel if self._passes_parallel else K.shift_nodes
+        w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1], moved)
         s.energy.projection_work += w
         # energy-neutral: the cells touching a shifted node take their volume at the shifted x^n as V^n, so the
         # cell update's -p dV sees only the motion over the step, not the shift (e is kept across the shift)
-        cells = np.flatnonzero(moved[s.conn].any(axis=1))
-        vol = np.empty(cells.size)
-        K.cell_volumes(s.conn[cells], s.x, s.y, s.axisymmetric, vol)
-        s.volume[cells] = vol
+        volumes = K.shifted_volumes_parallel if self._passes_parallel else K.shifted_volumes
+        volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume)
 
     def _advance_stage(self) -> None:
         """Steps 5-6: positions, cells, next time step."""
@@ -481,7 +495,8 @@ class Simulation:
         dt = s.dt
         # 5 positions
         if self.parallel:
-            K.move_nodes_parallel(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
+            move = K.move_nodes_parallel if self._passes_parallel else K.move_nodes
+            move(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
         # 6 cells (serial: 5 and 6 in one call)
         args = (s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,
                 s.volume, s.rho, s.e, s.e_el, s.pressure, s.q, s.sxx, s.syy, s.sxy, s.eps_p, s.temperature,

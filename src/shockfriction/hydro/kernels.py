@@ -484,9 +484,9 @@ def impulse_work_parallel(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_re
     return 0.5 * chunk_total(parts, nch)
 
 
-def _shift_nodes_impl(x, y, sx, sy, fx, fy, mass_own, mass, parts):
+def _shift_nodes_impl(x, y, sx, sy, fx, fy, mass_own, mass, parts, moved):
     """Move x^n by the position shifts (sx, sy) and zero them; returns sum (m_own/m) F . dx (per chunk of
-    SUM_CHUNK nodes, then the chunks in order: module docstring, "Sums")."""
+    SUM_CHUNK nodes, then the chunks in order: module docstring, "Sums").  moved[n]: whether node n moved."""
     nn = x.shape[0]
     nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
     for i in prange(nch):
@@ -495,6 +495,7 @@ def _shift_nodes_impl(x, y, sx, sy, fx, fy, mass_own, mass, parts):
             u = sx[n]
             w = sy[n]
             part += mass_own[n] / mass[n] * (fx[n] * u + fy[n] * w)
+            moved[n] = u != 0.0 or w != 0.0
             x[n] += u
             y[n] += w
             sx[n] = 0.0
@@ -577,6 +578,38 @@ move_nodes = njit(cache=True, **NO_REFCOUNT)(_move_nodes)
 shift_nodes = njit(cache=True, **NO_REFCOUNT)(_shift_nodes_impl)
 shift_nodes_parallel = njit(cache=True, parallel=True)(_twin(_shift_nodes_impl, "_parallel"))
 move_nodes_parallel = njit(cache=True, parallel=True)(_twin(_move_nodes, "_parallel"))
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def any_shifted(sx, sy):
+    """True when a position shift (sx, sy) is not zero (stops at the first one)."""
+    for n in range(sx.shape[0]):
+        if sx[n] != 0.0 or sy[n] != 0.0:
+            return True
+    return False
+
+
+def _shifted_volumes_impl(conn, moved, x, y, axi, out):
+    """out[c] = the volume of cell c at (x, y) for each cell with a node marked in ``moved`` (others untouched):
+    the cells that a position shift moved (:func:`cell_volumes`' arithmetic, in blocks of 1024 cells)."""
+    nc = conn.shape[0]
+    nch = (nc + 1023) >> 10
+    for i in prange(nch):
+        xs = np.empty(4)
+        ys = np.empty(4)
+        bx = np.empty(4)
+        by = np.empty(4)
+        hh = np.empty(4)
+        for c in range(i << 10, min((i + 1) << 10, nc)):
+            if moved[conn[c, 0]] or moved[conn[c, 1]] or moved[conn[c, 2]] or moved[conn[c, 3]]:
+                for k in range(4):
+                    xs[k] = x[conn[c, k]]
+                    ys[k] = y[conn[c, k]]
+                out[c] = bvectors(xs, ys, axi, bx, by, hh)
+
+
+shifted_volumes = njit(cache=True)(_shifted_volumes_impl)
+shifted_volumes_parallel = njit(cache=True, parallel=True)(_twin(_shifted_volumes_impl, "_parallel"))
 
 
 @njit(cache=True, **NO_REFCOUNT)
