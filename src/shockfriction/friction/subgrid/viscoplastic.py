@@ -29,7 +29,9 @@ Newton on the node velocities with an exact line search on the step's convex inc
 by backward Euler with implicit hardening (scalar convex Newton per cell); heat by backward Euler on the enthalpy
 with a conservative final update; mechanics and heat coupled by Picard iterations.  A column that does not
 converge is redone on sub-steps (dt/2 ... dt/16); one that still fails raises.
-All 2D arrays are (n_nodes or n_cells, n_columns): the column index is innermost.
+All 2D arrays are (n_nodes or n_cells, n_columns): the column index is innermost; the columns are independent
+and run in parallel blocks where numba has threads (:func:`viscoplastic_step`; cost: docs/theory/viscoplastic.md,
+"Cost").
 """
 
 from __future__ import annotations
