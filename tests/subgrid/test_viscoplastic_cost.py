@@ -1,0 +1,71 @@
+"""The viscoplastic kernel's cost measures (docs/theory/viscoplastic.md, "Cost"): the closed-form first iterate of
+the return map, the step left out on linear columns, and the parallel column blocks, each against the plain
+computation it replaces."""
+
+import math
+
+import numpy as np
+import pytest
+
+import shockfriction.friction.subgrid.viscoplastic as vp
+from shockfriction.friction.subgrid.viscoplastic import SQRT3, ViscoplasticColumns, return_map
+
+
+def newton_reference(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax):
+    """The return map as it was: Newton from x = 0 with the hardening slope by its own pow (pure Python)."""
+    if G <= 0.0:
+        return 0.0, 0.0
+    if s_abs <= y_start * k_fac:
+        return 0.0, 1.0
+    c = G + eta_dt
+    x = dk = 0.0
+    for _ in range(100):
+        hb = 1.0 + beta * (eps + x / SQRT3)
+        y = Y0 * hb ** n
+        if y >= Ymax:
+            k, dk = Ymax * k_fac, 0.0
+        else:
+            k = y * k_fac
+            dk = Y0 * n * beta * hb ** (n - 1.0) * k_fac / SQRT3
+        dx = (s_abs - c * x - k) / (c + dk)
+        x += dx
+        if abs(dx) <= 1e-15 * x:
+            break
+    return x, (eta_dt + dk) / (c + dk)
+
+
+@pytest.mark.parametrize("eps", [0.0, 1e-3, 0.3, 5.0])
+@pytest.mark.parametrize("over", [1.0001, 1.5, 20.0])
+@pytest.mark.parametrize("eta_dt", [0.0, 5e10])
+def test_return_map_matches_newton(eps, over, eta_dt):
+    G0, Y0, beta, n, Ymax = 2.7e10, 1.5e8, 400.0, 0.1, 4.8e8  # an Al-like SCG set
+    G = 0.8 * G0
+    k_fac = G / G0 / SQRT3
+    y_start = min(Ymax, Y0 * (1.0 + beta * eps) ** n)
+    s = over * y_start * k_fac
+    x, d = return_map(s, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax)
+    xr, dr = newton_reference(s, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax)
+    assert math.isclose(x, xr, rel_tol=1e-13, abs_tol=0.0)
+    assert math.isclose(d, dr, rel_tol=1e-12, abs_tol=1e-300)
+    # the root of the return equation
+    hb = 1.0 + beta * (eps + x / SQRT3)
+    y = min(Ymax, Y0 * hb ** n)
+    assert abs(s - (G + eta_dt) * x - y * k_fac) <= 1e-14 * s
+
+
+def run(ncol, threads, monkeypatch, steps=25, f=0.7):
+    monkeypatch.setattr(vp, "get_num_threads", lambda: threads)
+    c = ViscoplasticColumns(ncol, "Al5083-H111", beta_T=0.5, thickness=4e-6, n_cells=100, f=f, other="AISI321")
+    v = np.linspace(50.0, 250.0, ncol)
+    for _ in range(steps):
+        c.step(10e9, v, v, 0.0, 3e9, 1e-9)
+    return c
+
+
+def test_parallel_blocks_bit_identical(monkeypatch):
+    """Columns in parallel blocks (8 blocks of 18 columns) give the same bytes as one block."""
+    a = run(18, 1, monkeypatch)
+    b = run(18, 2, monkeypatch)
+    for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "tau", "_v_half", "T_other", "iterations"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert np.max(np.abs(a.energy_residual())) <= 1e-10
