@@ -1,5 +1,7 @@
 """Viscoplastic sub-grid columns against exact solutions: d'Alembert shear wave and non-reflecting far end,
-exact discrete energy balance, steady Couette melt film with viscous heating (docs/theory/viscoplastic.md)."""
+exact discrete energy balance, steady Couette melt film with viscous heating: constant viscosity, Arrhenius fully
+molten, and partly molten (a melt front inside the layer, Arrhenius and pressure viscosity, inertia on; shooting
+solution) (docs/theory/viscoplastic.md)."""
 
 import math
 
