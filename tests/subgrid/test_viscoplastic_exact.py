@@ -214,6 +214,34 @@ def _couette_partly_molten_exact(eta_of, T_m, kappa, V, h, T_h):
     return s, delta, T0, T_of
 
 
+PM = {"eta_F": 0.2, "E_R": 2.0e4, "V_act": 2.1e-6, "V": 600.0, "h": 4e-6, "p": 1e9}
+
+
+def _partly_molten_run(n_cells):
+    """The partly molten Couette case on n_cells: (column, s, delta, T0, T_m, T_h, T_exact(z), viscosity(T))."""
+    from shockfriction.friction.subgrid.viscoplastic import R_GAS, liquid_viscosity
+    from shockfriction.materials.strength import scg_melt_temperature
+
+    eta_F, E_R, V_act, V, h, p = (PM[k] for k in ("eta_F", "E_R", "V_act", "V", "h", "p"))
+    T_F = AL.melting_temperature
+    T_m = scg_melt_temperature(p, *AL.melt_law())
+    T_h = T_m - 100.0
+    pV_R = p * V_act / R_GAS
+    c = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=h, n_cells=n_cells, inertia=True, far_end="held", f=None,
+                            latent_heat=3.97e5, liquid_viscosity=eta_F, liquid_activation=E_R, far_temperature=T_h,
+                            pressure_melting=True, liquid_activation_volume=V_act)
+    c.set_temperature(T_h)   # solid at T_h (the far node keeps it: the fixed far temperature)
+    for _ in range(500):
+        c.step(p, V, V, 0.0, 1e12, 5e-9)
+    assert np.all(c.TF == pytest.approx(T_m, rel=1e-15))
+
+    def eta_of(T):
+        return liquid_viscosity(T, eta_F, E_R, T_F, T_m, pV_R)
+
+    s, delta, T0, T_of = _couette_partly_molten_exact(eta_of, T_m, AL.conductivity, V, h, T_h)
+    return c, s, delta, T0, T_m, T_h, T_of, eta_of
+
+
 def test_couette_partly_molten_film_arrhenius_pressure_inertia():
     """A partly molten Couette layer (item 7 of issue 25): the surface z = 0 stuck to the slider at V and adiabatic,
     z = h at rest and held at T_h = T_m - 100 K below the melting point, so a molten film over solid forms and stays.
@@ -222,30 +250,17 @@ def test_couette_partly_molten_film_arrhenius_pressure_inertia():
     starts from solid at T_h and melts its way to the steady state.  Against the shooting solution: measured on 800
     cells tau 4.1e-6, T 9.0e-5 of the layer's temperature range; first order in dz (the front sits between two
     nodes, see the docs)."""
-    from shockfriction.friction.subgrid.viscoplastic import R_GAS, liquid_viscosity
-    from shockfriction.materials.strength import scg_melt_temperature
+    c, s, delta, T0, T_m, T_h, T_of, eta_of = _partly_molten_run(800)
+    from shockfriction.friction.subgrid.viscoplastic import R_GAS
 
-    eta_F, E_R, V_act, V, h, p = 0.2, 2.0e4, 2.1e-6, 600.0, 4e-6, 1e9
-    T_F = AL.melting_temperature
-    T_m = scg_melt_temperature(p, *AL.melt_law())
-    T_h = T_m - 100.0
-    pV_R = p * V_act / R_GAS
-    c = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=h, n_cells=800, inertia=True, far_end="held", f=None,
-                            latent_heat=3.97e5, liquid_viscosity=eta_F, liquid_activation=E_R, far_temperature=T_h,
-                            pressure_melting=True, liquid_activation_volume=V_act)
-    c.set_temperature(T_h)
-    for _ in range(500):
-        c.step(p, V, V, 0.0, 1e12, 5e-9)
-    assert np.all(c.TF == pytest.approx(T_m, rel=1e-15))
-    s, delta, T0, T_of = _couette_partly_molten_exact(lambda T: liquid_viscosity(T, eta_F, E_R, T_F, T_m, pV_R),
-                                                       T_m, AL.conductivity, V, h, T_h)
+    V, h, pV_R = PM["V"], PM["h"], PM["p"] * PM["V_act"] / R_GAS
     T_exact = T_of(c.z)
     span = T0 - T_h
     err_T = np.max(np.abs(c.T[:, 0] - T_exact)) / span
     err_tau = abs(c.tau[0] / s - 1)
     liquid = c.T[:, 0] > T_m
     solid_v = np.max(np.abs(c.v[~liquid, 0]))
-    eta_ratio = liquid_viscosity(T_m, eta_F, E_R, T_F, T_m, pV_R) / liquid_viscosity(T0, eta_F, E_R, T_F, T_m, pV_R)
+    eta_ratio = eta_of(T_m) / eta_of(T0)
     print(f"\npartly molten Couette: tau {c.tau[0]/1e6:.6f} MPa (exact {s/1e6:.6f}), T(0) {c.T[0, 0]:.4f} K (exact "
           f"{T0:.4f}), film {delta*1e6:.4f} um of {h*1e6:g} (last liquid node {c.z[liquid][-1]*1e6:.4f} um), "
           f"viscosity ratio {eta_ratio:.2f}, pressure factor {np.exp(pV_R / T0):.3f}; rel. errors tau {err_tau:.2e}, "
@@ -261,3 +276,20 @@ def test_couette_partly_molten_film_arrhenius_pressure_inertia():
 
 
 ERR_TAU_PM, ERR_T_PM = 1e-5, 1.2e-4  # measured 4.1e-6, 9.0e-5 (800 cells; first order, see the docs)
+
+
+@pytest.mark.slow
+def test_couette_partly_molten_film_converges_first_order():
+    """The partly molten case on 200 / 400 / 800 cells: the temperature error stays under 0.2 dz/h of the range and
+    falls by more than 2 from 400 to 800 cells (first order: the front is held at a cell's midpoint, so the error's
+    sign and size oscillate with where it falls); tau within 3e-5 throughout.  Measured: T 1.9e-4 / 3.6e-4 / 9.0e-5,
+    tau 1.9e-5 / 1.6e-5 / 4.1e-6.  Not 1600 cells: there the first solid cells lie within 0.2 K of T_m, where the
+    SCG melt factor leaves G/G0 < 1e-4, Maxwell cells whose relaxation time eta_vp/G (~20 us) is longer than the run:
+    no steady state, tau wanders by up to 1e-4 in bursts (docs/theory/viscoplastic.md)."""
+    errs = {}
+    for n in (200, 400, 800):
+        c, s, delta, T0, T_m, T_h, T_of, _ = _partly_molten_run(n)
+        errs[n] = (abs(c.tau[0] / s - 1), np.max(np.abs(c.T[:, 0] - T_of(c.z))) / (T0 - T_h))
+        print(f"\n{n} cells: tau {errs[n][0]:.2e}, T {errs[n][1]:.2e}")
+        assert errs[n][0] < 3e-5 and errs[n][1] < 0.2 / n
+    assert errs[800][1] < errs[400][1] / 2
