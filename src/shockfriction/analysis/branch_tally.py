@@ -13,10 +13,10 @@ and tallies, per node and per branch, over cumulative windows [0, t_k) of the st
 
 Branches: ``coulomb_cap`` (sub-grid: tau = mu0 F_N <= tau_stick; a hydro law (plain or modified Coulomb): the
 law's sliding traction), ``sticking_cap`` (tau = tau_stick: the node sticks), ``subgrid`` (the sub-grid model's own
-branch, below both caps) and ``none`` (node-steps with no friction: out of contact, no normal impulse or no free
-slip; they should carry neither work nor impulse).  A hydro-law node sticks when its corrected slip is at most
-``STICK_REL`` of its free slip (plus ``STICK_ABS``): the Gauss-Seidel sweeps leave a stuck node a slip of the order
-of their tolerance.
+branch, below both caps) and ``none`` (node-steps with no friction: out of contact, no normal impulse, or no free
+slip (a hydro-law node: no free slip and no tangential impulse); they carry neither work nor impulse).  A
+hydro-law node sticks when its corrected slip is at most ``STICK_REL`` of its free slip (plus ``STICK_ABS``): the
+Gauss-Seidel sweeps leave a stuck node a slip of the order of their tolerance.
 
 It needs no change in the friction code: it wraps the line's ``apply`` (for the step's time) and ``finish_step``
 (where the step's impulses and works are final) on the instance.  The sums over the branches over the whole run
@@ -101,7 +101,7 @@ class BranchTally:
             b[stick] = S
             b[coul] = C
             return b
-        live = line.active & (line.lam_n != 0.0) & (line.area > 0.0)
+        live = line.active & (line.lam_n != 0.0) & (line.area > 0.0) & ((line.slip_free != 0.0) | (line.lam_t != 0.0))
         stuck = np.abs(line.slip) <= STICK_REL * np.abs(line.slip_free) + STICK_ABS
         b[live & stuck] = S
         b[live & ~stuck] = C
