@@ -104,7 +104,7 @@ class BranchTally:
             b[stick] = S
             b[coul] = C
             return b
-        live = line.active & (line.lam_n != 0.0) & (line.area > 0.0) & (np.abs(line.slip_free) >= IDLE_SLIP)
+        live = line.active & (line.lam_n != 0.0) & (line.area > 0.0) & (np.abs(line.slip_free) > IDLE_SLIP)
         stuck = np.abs(line.slip) <= STICK_REL * np.abs(line.slip_free) + STICK_ABS
         b[live & stuck] = S
         b[live & ~stuck] = C
