@@ -12,15 +12,21 @@ Runs, on the deck of ``cone_deck`` of examples/cone_shot.py:
   mu0 = 0.3, mu_inf = 0.01, gamma = 0.05 s/m (Fig. 7.16).
 
 Each sub-grid run counts which term of tau = min(mu0 F_N, tau_stick, sub-grid branch) governed each
-friction node-step (``branch_*`` in ``study.csv``).  The thesis's findings are then judged, each
+friction node-step (``branch_*`` in ``study.csv``).  Every run, plain and modified Coulomb included, also tallies
+the branches weighted by the friction work (tau slip S dt) and by the impulse (tau S dt) beside the node-steps,
+over 0-0.3, 0-3 and 0-8 us (``tally_<steps|work|impulse>_<branch>_<window>`` in ``study.csv``, the table at the
+end of ``findings.md`` and in ``branch_tallies.md``, ``OUT/<run>/branch_tally.json`` with the interior nodes too;
+shockfriction.analysis.branch_tally): a node held at a cap while barely sliding counts as a node-step but carries
+no heat.  The thesis's findings are then judged, each
 against the plain Coulomb baseline (a finding that plain Coulomb reproduces is not the model's), on
 all slide-line nodes and on the interior nodes (those farther than EXCLUDE_MM along the interface
 from the cone-base corner, a distance fixed before the runs: the corner is a contact singularity,
 flyer/barrel/cone meet there), with melting judged at the library's T_F (1220 K for Al5083-H111).
 
-Writes ``OUT/study.csv`` (one row per run), ``OUT/findings.json`` and ``OUT/findings.md`` (which
-findings hold and which do not, with the numbers), ``OUT/fs_mu0_<mu0>.png``, ``OUT/maps.png`` and
-each run's outputs in ``OUT/<run>/``.  Exit status 1 only if a run failed; whether a finding holds
+Writes ``OUT/study.csv`` (one row per run), ``OUT/branch_tallies.md``, ``OUT/findings.json`` and
+``OUT/findings.md`` (which findings hold and which do not, with the numbers), ``OUT/fs_mu0_<mu0>.png``,
+``OUT/maps.png`` and each run's outputs in ``OUT/<run>/`` (with ``branch_tally.json``).  ``--only``
+writes study.csv and branch_tallies.md but judges nothing.  Exit status 1 only if a run failed; whether a finding holds
 is reported, not enforced (tests/coupled/test_cone_study_slow.py asserts the verdicts).
 """
 
@@ -53,6 +59,12 @@ F_TOL = 0.02                            # "barely depends": spread below 2 % of 
 MODEL_TOL = 0.03                        # "nearly coincide": 3 % of the peak (finding 4)
 BRANCHES = ("coulomb_cap", "sticking_cap", "subgrid")
 HISTORY_KEYS = ("t", "cone_fs", "confinement_fs")
+# the weighted, time-resolved branch tallies (shockfriction.analysis.branch_tally): windows from t = 0
+WINDOWS_US = (0.3, 3.0, 8.0)
+WINDOWS_US_S = tuple(w * 1e-6 for w in WINDOWS_US)
+WINDOW_LABELS = tuple(f"0-{w:g}us" for w in WINDOWS_US)
+WEIGHTS = ("steps", "work", "impulse")
+TALLY_BRANCHES = BRANCHES
 
 
 def tag(model: str) -> str:
@@ -89,14 +101,17 @@ def interior_mask(d: dict) -> np.ndarray:
 def run_one(spec: dict, out: str, cell_um: float, end_us: float, cells: int) -> dict:
     """Run one case; return its metrics and histories (plain lists, picklable)."""
     from cone_shot import cone_deck
-    from shockfriction.hydro.api import run
+    from shockfriction.analysis.branch_tally import BranchTally
+    from shockfriction.hydro.api import prepare, run_simulation
     from shockfriction.io.interface import read_interface
     from shockfriction.materials.library import get_material
 
     started = time.perf_counter()
     deck = cone_deck(spec["law"], spec["mu0"], spec["f"], cell_um=cell_um, end_us=end_us, cells=cells,
                      mu_inf=0.01, gamma=0.05)
-    res = run(deck, Path(out) / spec["name"])
+    sim = prepare(deck)
+    tally = BranchTally.attach(sim, "cone_wall", windows=WINDOWS_US_S)
+    res = run_simulation(sim, Path(out) / spec["name"])
     d = read_interface(Path(out) / spec["name"] / "interface.h5")["cone_wall"]
     slip = np.abs(d["slip_mps"])
     inner = interior_mask(d)
@@ -129,8 +144,38 @@ def run_one(spec: dict, out: str, cell_um: float, end_us: float, cells: int) -> 
         for b in BRANCHES:
             row[f"branch_{b}"] = counts[b]
             row[f"branch_{b}_frac"] = counts[b] / total if total else math.nan
+    row.update(tally_columns(tally, inner, 2 * np.pi if sim.state.axisymmetric else 1.0,
+                             float(d["friction_work_J"][-1].sum()), Path(out) / spec["name"]))
     (Path(out) / spec["name"] / "metrics.json").write_text(json.dumps(row))
     return row
+
+
+def tally_columns(tally, inner: np.ndarray, factor: float, h5_work: float, folder: Path | None = None) -> dict:
+    """The weighted branch tallies of a run as study.csv columns: ``tally_<weight>_<branch>_<window>`` (the
+    branch's share of the node-steps / friction work / impulse over the window, all slide-line nodes) and
+    ``tally_work_J_<window>``, ``tally_impulse_Ns_<window>`` (totals; x 2 pi in axisymmetric runs); checked first
+    (:meth:`~shockfriction.analysis.branch_tally.BranchTally.check`: the whole run's work tally is the slide line's
+    friction work, the sub-grid model's own node-step counts are reproduced) and against the friction work of
+    interface.h5 (``h5_work``, per radian).  Writes ``branch_tally.json`` (sums and shares, all and interior
+    nodes) into ``folder``."""
+    books = tally.check()
+    if not abs(books["friction_work"] - h5_work) <= 1e-9 * max(abs(h5_work), 1e-300):
+        raise AssertionError(f"work tally {books['friction_work']!r} against interface.h5's {h5_work!r}")
+    fr = tally.fractions()
+    sums = tally.sums()
+    cols = {}
+    for label in WINDOW_LABELS:
+        for w in WEIGHTS:
+            for b in TALLY_BRANCHES:
+                cols[f"tally_{w}_{b}_{label}"] = fr[w][label][b]
+        cols[f"tally_work_J_{label}"] = factor * sum(sums["work"][label].values())
+        cols[f"tally_impulse_Ns_{label}"] = factor * sum(sums["impulse"][label].values())
+    if folder is not None:
+        (folder / "branch_tally.json").write_text(json.dumps({
+            "windows_s": list(tally.windows[:-1]), "factor": factor, "books": books,
+            "all": {"sums": sums, "fractions": fr},
+            "interior": {"sums": tally.sums(inner), "fractions": tally.fractions(inner)}}, indent=1))
+    return cols
 
 
 def _common(rows, key):
@@ -146,6 +191,11 @@ def _max_dev(a: dict, b: dict, key: str = "cone_fs") -> float:
 
 def _caps(r: dict) -> float:
     return r["branch_coulomb_cap_frac"] + r["branch_sticking_cap_frac"]
+
+
+def _caps_work(r: dict, label: str = WINDOW_LABELS[-1]) -> float:
+    """The caps' share of the friction work over the window (nan without the weighted tally)."""
+    return 1.0 - r.get(f"tally_work_subgrid_{label}", math.nan)
 
 
 def check(results: dict, models=None) -> list[dict]:
@@ -164,6 +214,7 @@ def check(results: dict, models=None) -> list[dict]:
         spread = max(_max_dev(rows[0], r) for r in rows)
         vs_c = max(_max_dev(results["coulomb_mu0.02"], r) for r in rows)
         caps = [_caps(r) for r in rows]
+        caps_w = [_caps_work(r) for r in rows]
         identical = rows[2]["cone_fs"] == rows[3]["cone_fs"]  # f = 0.7 and f = 0.9
         high = [results[n] for n in (subgrid_name(ref, 0.3, f) for f in F) if n in results]
         spread_h = max(_max_dev(high[0], r) for r in high) if len(high) > 1 else math.nan
@@ -173,11 +224,13 @@ def check(results: dict, models=None) -> list[dict]:
             "id": "f_insensitive_mu0_0.02",
             "finding": "mu0 = 0.02: the cone free-surface velocity barely depends on f",
             "holds": holds, "holds_interior": holds, "attributable_to_model": model_s,
-            "verdict": (f"holds, but because the caps govern {min(caps):.2%}-{max(caps):.2%} of the friction node-steps: "
+            "verdict": (f"holds, but because the caps govern {min(caps):.2%}-{max(caps):.2%} of the friction node-steps "
+                        f"({min(caps_w):.2%}-{max(caps_w):.2%} of the friction work over {WINDOW_LABELS[-1]}): "
                         f"every f is within {vs_c:.2%} of plain Coulomb mu0 = 0.02" if holds and not model_s else
                         "holds and differs from plain Coulomb" if holds else "does not hold"),
             "numbers": {"spread_over_f": spread, "max_dev_from_coulomb_0.02": vs_c, "spread_over_f_mu0_0.3": spread_h,
                         "cap_fraction_min": min(caps), "cap_fraction_max": max(caps),
+                        "cap_work_fraction_min": min(caps_w), "cap_work_fraction_max": max(caps_w),
                         "f_0.7_and_0.9_bit_identical": bool(identical) and len(rows) == 4,
                         "peak_cone_fs_mps": {n: results[n]["peak_cone_fs_mps"] for n in low + ["coulomb_mu0.02"]}}})
     # control: where the sub-grid branch does govern (mu0 = 0.3, f = 0.3), does the model change the result?
@@ -217,7 +270,8 @@ def check(results: dict, models=None) -> list[dict]:
                            "the finding is Coulomb's, not the model's" if c_too and not model_s else
                            f"; the sub-grid model differs from plain Coulomb 0.3 by {max(dev, dev99):.1%}")),
             "numbers": {k: {"subgrid": a[k], "modified_coulomb": mc[k], "coulomb_0.3": c[k]} for k in keys}
-            | {"cap_fraction": _caps(a), "subgrid_fraction": a["branch_subgrid_frac"]}})
+            | {"cap_fraction": _caps(a), "subgrid_fraction": a["branch_subgrid_frac"],
+               "cap_work_fraction": _caps_work(a)}})
     # 3. mu0 = 0.3, f = 0.7: some interface nodes reach melting
     if have(te):
         a = results[te]
@@ -251,13 +305,15 @@ def check(results: dict, models=None) -> list[dict]:
             "finding": f"{model} and {ref} free-surface velocities nearly coincide (mu0 = 0.3, f = 0.7)",
             "holds": holds, "holds_interior": holds, "attributable_to_model": model_s,
             "verdict": (f"holds, but both are within {max(da, db):.2%} of plain Coulomb 0.3 (caps govern "
-                        f"{_caps(a):.0%} / {_caps(b):.0%} of the node-steps): the free surface does not see the "
+                        f"{_caps(a):.0%} / {_caps(b):.0%} of the node-steps, {_caps_work(a):.0%} / {_caps_work(b):.0%} "
+                        f"of the friction work over {WINDOW_LABELS[-1]}): the free surface does not see the "
                         "sub-grid model" if holds and not model_s else
                         "holds" if holds else f"does not hold ({diff:.2%})"),
             "numbers": {"max_diff": diff, "ref_vs_coulomb": da, "model_vs_coulomb": db,
                         "peak_cone_fs_mps": {ref: a["peak_cone_fs_mps"], model: b["peak_cone_fs_mps"],
                                              "coulomb_0.3": c["peak_cone_fs_mps"]},
-                        "cap_fraction": {ref: _caps(a), model: _caps(b)}}})
+                        "cap_fraction": {ref: _caps(a), model: _caps(b)},
+                        "cap_work_fraction": {ref: _caps_work(a), model: _caps_work(b)}}})
     return out
 
 
@@ -276,6 +332,29 @@ def markdown(findings: list[dict], results: dict) -> str:
               if "max_interface_T_K" in r else "-")
         lines.append(f"| {name} | {br} | {r['peak_cone_fs_mps']:.2f} | {r['peak_slip_mps']:.1f} / "
                      f"{r['peak_slip_interior_mps']:.1f} | {tt} |")
+    lines += ["", tally_table(results)]
+    return "\n".join(lines) + "\n"
+
+
+def tally_table(results: dict) -> str:
+    """The branch tallies of every run as a markdown table: each branch's share (Coulomb cap / sticking cap /
+    sub-grid; for plain and modified Coulomb the law's sliding traction / sticking) of the friction node-steps, of
+    the friction work and of the friction impulse, over 0-0.3, 0-3 and 0-8 us, all slide-line nodes."""
+    lines = ["Branch shares, all slide-line nodes: Coulomb cap / sticking cap / sub-grid branch (for plain and modified "
+             "Coulomb: the law's sliding traction / sticking), weighted by node-steps, friction work (tau slip S dt) "
+             "and impulse (tau S dt), over windows from t = 0.", "",
+             "| run | window | node-steps | friction work | impulse | work (J) |", "|---|---|---|---|---|---|"]
+
+    def shares(r, w, label):
+        vals = [r.get(f"tally_{w}_{b}_{label}", math.nan) for b in TALLY_BRANCHES]
+        return " / ".join("-" if not math.isfinite(v) else f"{v:.1%}" for v in vals)
+
+    for name, r in results.items():
+        for label in WINDOW_LABELS:
+            if f"tally_work_J_{label}" not in r:
+                continue
+            lines.append(f"| {name} | {label} | {shares(r, 'steps', label)} | {shares(r, 'work', label)} | "
+                         f"{shares(r, 'impulse', label)} | {r[f'tally_work_J_{label}']:.4g} |")
     return "\n".join(lines) + "\n"
 
 
@@ -367,7 +446,9 @@ def main(argv=None) -> int:
             print(f"{name:>20}: {r['wall_s']:6.1f} s, peak cone fs {r['peak_cone_fs_mps']:6.2f} m/s, peak slip "
                   f"{r['peak_slip_mps']:6.1f} m/s, max T {r.get('max_interface_T_K', float('nan')):7.1f} K, "
                   f"caps {r.get('branch_coulomb_cap_frac', float('nan')):.1%} + "
-                  f"{r.get('branch_sticking_cap_frac', float('nan')):.1%}", flush=True)
+                  f"{r.get('branch_sticking_cap_frac', float('nan')):.1%}; sub-grid share of the work "
+                  + ", ".join(f"{r.get(f'tally_work_subgrid_{lab}', float('nan')):.1%} ({lab})"
+                              for lab in WINDOW_LABELS), flush=True)
     order = [s["name"] for s in specs if s["name"] in results]
     results = {n: results[n] for n in order}
     keys = []
@@ -379,6 +460,7 @@ def main(argv=None) -> int:
         for r in results.values():
             w.writerow(r)
     print(f"{len(results)} runs in {time.perf_counter() - started:.0f} s (cell {args.cell_um:g} um)")
+    (args.out / "branch_tallies.md").write_text(tally_table(results))
     if args.only:
         return 1 if failed else 0
     plots(results, args.out, args.models[0])

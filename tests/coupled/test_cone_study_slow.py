@@ -5,19 +5,67 @@
 Each finding is asserted against the plain-Coulomb baseline, on all nodes and on the interior nodes (more than 1 mm
 from the cone-base corner), with melting judged at T_F = 1220 K.  Measured 2026-11-23 (the asserted verdicts):
 the three findings that hold are not the sub-grid model's (the caps govern 98.6-100 % of the friction node-steps);
-the melting finding does not hold; the model departs from Coulomb only where its SCG branch governs (f = 0.3)."""
+the melting finding does not hold; the model departs from Coulomb only where its SCG branch governs (f = 0.3).
+The first test (fast) checks the work- and impulse-weighted branch tallies on two short coarse runs."""
 
 import csv
+import importlib.util
 import json
+import math
 import os
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "examples" / "cone_study.py"
+
+
+def _study():
+    sys.path.insert(0, str(ROOT / "examples"))   # cone_study imports cone_shot
+    spec = importlib.util.spec_from_file_location("cone_study", STUDY)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_weighted_branch_tallies_short_cone_runs(tmp_path):
+    """The work- and impulse-weighted branch tallies on two short, coarse cone runs (400 um cells, 0.5 us: plain
+    Coulomb 0.3 and the thermoelastic model at mu0 = 0.3, f = 0.7): each weight's shares add up to 1; the work tally
+    over the run is the friction work of interface.h5 (run_one checks it to 1e-9 and the slide line's own sum to
+    1e-12, and raises otherwise); the sub-grid run's node-step tally is its model's own count; the windows are
+    nested (0-0.3 us holds less work than 0-3 us; 0-3 and 0-8 us are the whole run here)."""
+    study = _study()
+    rows = {}
+    for spec in ({"name": "coulomb_mu0.3", "law": "coulomb", "model": "coulomb", "mu0": 0.3, "f": 0.0},
+                 {"name": "te_mu0.3_f0.7", "law": "subgrid-thermoelastic", "model": "thermoelastic", "mu0": 0.3,
+                  "f": 0.7}):
+        rows[spec["name"]] = study.run_one(spec, str(tmp_path), 400.0, 0.5, 40)
+    for name, r in rows.items():
+        for lab in study.WINDOW_LABELS:
+            for w in study.WEIGHTS:
+                shares = [r[f"tally_{w}_{b}_{lab}"] for b in study.TALLY_BRANCHES]
+                assert sum(shares) == pytest.approx(1.0, abs=1e-12) and min(shares) >= 0.0, (name, w, lab)
+        early, mid, late = (r[f"tally_work_J_{lab}"] for lab in study.WINDOW_LABELS)
+        assert 0.0 < early < mid == late == pytest.approx(r["friction_work_J"], rel=1e-9), name
+        assert r["tally_impulse_Ns_0-0.3us"] < r["tally_impulse_Ns_0-3us"]
+        d = json.loads((tmp_path / name / "branch_tally.json").read_text())
+        assert d["books"]["relative_difference"] == pytest.approx(0.0, abs=1e-12)
+        inner = d["interior"]["sums"]["work"]["0-end"]
+        assert 0.0 < sum(inner.values()) < sum(d["all"]["sums"]["work"]["0-end"].values())
+    c, te = rows["coulomb_mu0.3"], rows["te_mu0.3_f0.7"]
+    assert all(c[f"tally_{w}_subgrid_{lab}"] == 0.0 for w in study.WEIGHTS for lab in study.WINDOW_LABELS)
+    for b in study.BRANCHES:   # the node-step tally is the model's own count (branch_* from interface.h5)
+        assert te[f"tally_steps_{b}_0-8us"] == pytest.approx(te[f"branch_{b}_frac"], rel=1e-12)
+    # a stuck node does no work: sticking carries impulse but (nearly) no work
+    assert c["tally_impulse_sticking_cap_0-3us"] > 0.05 > c["tally_work_sticking_cap_0-3us"]
+    table = study.tally_table(rows)
+    print("\n" + table)
+    assert table.count("| te_mu0.3_f0.7 |") == 3 and not math.isnan(te["tally_work_subgrid_0-0.3us"])
+    assert np.isfinite([te[f"tally_work_subgrid_{lab}"] for lab in study.WINDOW_LABELS]).all()
 
 
 @pytest.mark.slow
@@ -57,6 +105,13 @@ def test_cone_study_findings_judged_against_plain_coulomb(tmp_path):
     # control: where the SCG branch governs (f = 0.3) the model is visible
     assert ctl["attributable_to_model"] and ctl["numbers"]["subgrid_fraction"] > 0.4
     assert ctl["numbers"]["max_dev_from_coulomb_0.3"] > 0.1
+    # the weighted tallies: every run (plain and modified Coulomb too), shares that add up in every window
+    for name, r in rows.items():
+        for lab in ("0-0.3us", "0-3us", "0-8us"):
+            for w in ("steps", "work", "impulse"):
+                shares = [float(r[f"tally_{w}_{b}_{lab}"]) for b in ("coulomb_cap", "sticking_cap", "subgrid")]
+                assert sum(shares) == pytest.approx(1.0, abs=1e-9), (name, w, lab)
+        assert float(r["tally_work_J_0-8us"]) == pytest.approx(float(r["friction_work_J"]), rel=1e-9), name
     # the tally: three branches that add up, for every sub-grid run
     for name, r in rows.items():
         if r["model"] in ("thermoelastic", "thermoelastoplastic"):
