@@ -107,5 +107,5 @@ def test_viscoplastic_cone_books_close(tmp_path):
           f"layer work {parts['layer_work']:.3e}, columns' mechanical {parts['columns_mechanical']:.3e}, "
           f"max Theta(0) {theta:.0f} K")
     assert w > 0.0 and parts["layer_work"] != 0.0 and parts["columns_mechanical"] != 0.0
-    assert resid < 1e-13
-    assert hydro < 1e-3
+    assert resid < 1e-14  # measured 3.8e-16
+    assert hydro < 3e-4  # measured 1.3e-4
