@@ -1135,14 +1135,10 @@ def update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
     for k in range(start, stop):
         b0 = k * UPDATE_BLOCK
         b1 = min(b0 + bs, nc)
-        r0 = b0 % ring
-        dtb, badb, codeb, qv = _update_block(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table,
-                                             cmass[b0:b1], vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1],
-                                             q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1],
-                                             temp[b0:b1], shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl,
-                                             dvmax, dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
-                                             vcorner[r0:r0 + b1 - b0], vx_old, vy_old, dtv, wb, mrec, qv,
-                                             qparts[b0 >> SUM_SHIFT:])
+        dtb, badb, codeb, qv = _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho,
+                                             e, e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq,
+                                             cl, cfl, dvmax, dtcell, errcell, qedge, dmg, heat_now, vcorner, vx_old,
+                                             vy_old, dtv, wb, mrec, qv, qparts, b0, b1, b0 % ring)
         if badb >= 0:
             if bad < 0:
                 bad = b0 + badb
@@ -1155,17 +1151,25 @@ def update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
 @njit(cache=True, **NO_REFCOUNT)
 def _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
-                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0, qparts):
-    """:func:`update_cells_serial` with the literal flags of plane strain with the bulk q."""
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0, qparts, b0, b1, r0):
+    """:func:`update_cells_serial` on the cells b0 .. b1 - 1, the one block call of :func:`update_blocks` (serial)
+    and :func:`update_range` (a partition): the cell arrays cut to the block here, ``vcorner`` from its row ``r0``
+    (a ring's row, or b0), ``qparts`` from the block's chunk; with the literal flags of plane strain with the bulk
+    q."""
+    nb = b1 - b0
     if axi or qedge:
-        return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
-                                   q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
-                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0,
-                                   qparts)
-    return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
-                               sxx, syy, sxy, eps_p, temp, shear, yld, cs, False, dt, cq, cl, cfl, dvmax, dtcell,
-                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0,
-                               qparts)
+        return update_cells_serial(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table, cmass[b0:b1],
+                                   vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1], q[b0:b1], sxx[b0:b1],
+                                   syy[b0:b1], sxy[b0:b1], eps_p[b0:b1], temp[b0:b1], shear[b0:b1], yld[b0:b1],
+                                   cs[b0:b1], axi, dt, cq, cl, cfl, dvmax, dtcell[b0:b1], errcell[b0:b1], qedge,
+                                   dmg[b0:b1], heat_now, vcorner[r0:r0 + nb], vx_old, vy_old, dtv, work, mrec, qv0,
+                                   qparts[b0 >> SUM_SHIFT:])
+    return update_cells_serial(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table, cmass[b0:b1],
+                               vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1], q[b0:b1], sxx[b0:b1],
+                               syy[b0:b1], sxy[b0:b1], eps_p[b0:b1], temp[b0:b1], shear[b0:b1], yld[b0:b1],
+                               cs[b0:b1], False, dt, cq, cl, cfl, dvmax, dtcell[b0:b1], errcell[b0:b1], False,
+                               dmg[b0:b1], heat_now, vcorner[r0:r0 + nb], vx_old, vy_old, dtv, work, mrec, qv0,
+                               qparts[b0 >> SUM_SHIFT:])
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -1487,13 +1491,10 @@ def update_range(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, v
     wb = work.reshape(-1)[:11 * UPDATE_BLOCK].reshape(11, UPDATE_BLOCK)
     for b0 in range(start, stop, UPDATE_BLOCK):
         b1 = min(b0 + UPDATE_BLOCK, stop)
-        dtb, badb, codeb, _ = _update_block(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table,
-                                            cmass[b0:b1], vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1],
-                                            q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1], temp[b0:b1],
-                                            shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl, dvmax,
-                                            dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
-                                            vcorner[b0:b1], vx_old, vy_old, dtv, wb, mrec, 0.0,
-                                            qparts[b0 >> SUM_SHIFT:])
+        dtb, badb, codeb, _ = _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho,
+                                            e, e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl,
+                                            cfl, dvmax, dtcell, errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old,
+                                            dtv, wb, mrec, 0.0, qparts, b0, b1, b0)
         if badb >= 0:
             if bad < 0:
                 bad = b0 + badb
