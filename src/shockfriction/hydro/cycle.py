@@ -279,10 +279,11 @@ class Simulation:
             f"body {name!r}, {where} [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
-    def _forces(self, want_ie: bool) -> float:
+    def _forces(self, want_ie: bool, sum_border: bool = True) -> float:
         """Nodal forces F^n into state.fx, fy (viscous corner forces kept for their heat) in one
         pass over the cells (+ a gather over the nodes when parallel); returns the internal
-        energy at t^n if ``want_ie`` (else 0)."""
+        energy at t^n if ``want_ie`` (else 0).  ``sum_border`` False (parallel kernels): the border nodes' forces
+        are left to :func:`~shockfriction.hydro.kernels.border_velocities_parallel`."""
         s = self.state
         args = (s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
                 s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
@@ -290,7 +291,7 @@ class Simulation:
         if self.parallel:  # the same sums as the serial pass, whatever the thread count (kernels, "Sums")
             with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
                 return K.forces_parallel(*args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e, s.e_el,
-                                         s.cell_mass, want_ie, *self._partition_args())
+                                         s.cell_mass, want_ie, *self._partition_args(), sum_border)
         return K.cell_forces_serial(*args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass,
                                     want_ie)
 
@@ -347,15 +348,26 @@ class Simulation:
             if self._cons[0].shape[0]:
                 en.boundary_work += wbc
         else:
-            # 1-2 forces (and the internal energy at t^n for the history row)
-            ie = self._forces(record)
-            if self._grp[0].shape[0] > 1:
+            # 1-2 forces (and the internal energy at t^n for the history row); 3 free velocities (v^{n-1/2} kept
+            # in _vx_old, v* in _vx_pre): on the parallel path without node groups the border nodes' force sums
+            # and the velocities in one parallel region (the same bytes)
+            grouped = self._grp[0].shape[0] > 1
+            fused = self._passes_parallel and not grouped
+            ie = self._forces(record, not fused)
+            if grouped:
                 K.sum_groups(s.fx, s.fy, *self._grp)
             q_before = en.interface_heat
-            # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
-            advance = K.advance_velocities_parallel if self._passes_parallel else K.advance_velocities
-            advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
-                                 self._vy_pre, True)
+            if fused:
+                _, _, bcorner, (bnodes, bptr, bcorn) = self._force_scratch[1]
+                with numba.parallel_chunksize(1):
+                    K.border_velocities_parallel(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old,
+                                                 self._vx_pre, self._vy_pre, True, bcorner, bnodes, bptr, bcorn,
+                                                 self._partition_args()[0].shape[0] - 1)
+            else:
+                advance = K.advance_velocities_parallel if self._passes_parallel else K.advance_velocities
+                advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
+                        self._vy_pre, True)
+            # and the boundary constraints
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
             # 4 interfaces
             int_prev = self._int_active

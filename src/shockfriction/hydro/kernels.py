@@ -1442,15 +1442,34 @@ def forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld
             iparts[c0 >> SUM_SHIFT] = blk
 
 
+@njit(cache=True, inline="always")
+def border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, j0, j1):
+    """The forces of the border nodes ``bnodes[j0:j1]``: each the sum of its corners' forces from ``bcorner`` in
+    cell order (``bcorn[bptr[j]:bptr[j + 1]]`` = 4 c + k of border node ``bnodes[j]``, ascending), from 0.0, as
+    the serial pass adds them."""
+    for j in range(j0, j1):
+        sx = 0.0
+        sy = 0.0
+        for k in range(bptr[j], bptr[j + 1]):
+            cc = bcorn[k] >> 2
+            kk = bcorn[k] & 3
+            sx += bcorner[cc, kk]
+            sy += bcorner[cc, 4 + kk]
+        n = bnodes[j]
+        fx[n] = sx
+        fy[n] = sy
+
+
 @njit(cache=True, parallel=True)
 def forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                     scq, elastic_only, blocks, vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds, pnode_ptr, pnodes,
-                    border, bcorner, bnodes, bptr, bcorn, iparts):
+                    border, bcorner, bnodes, bptr, bcorn, iparts, sum_border=True):
     """The force pass (:func:`cell_forces_serial`) over the partitions in parallel: partition i zeroes its own
     nodes' forces and runs :func:`forces_of_range` on its cells (``blocks[i]`` its block scratch); then each
-    border node's force is the sum of its corners' forces from ``bcorner`` in cell order (``bcorn[bptr[j]:bptr[j
-    + 1]]`` = 4 c + k of border node ``bnodes[j]``, ascending), from 0.0, as the serial pass adds them.  Returns
-    the internal energy at t^n when ``want_ie`` (else 0), summed as the serial pass does."""
+    border node's force is the sum of its corners' forces from ``bcorner`` in cell order (:func:`border_sums`),
+    as the serial pass adds them: here, in a second parallel loop, with ``sum_border``, else by the caller
+    (:func:`cycle_parallel` has the node pass do it, one parallel region fewer).  Returns the internal energy at
+    t^n when ``want_ie`` (else 0), summed as the serial pass does."""
     npart = cbounds.shape[0] - 1
     for i in prange(npart):
         for j in range(pnode_ptr[i], pnode_ptr[i + 1]):
@@ -1460,19 +1479,10 @@ def forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld
         forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
                         scl, scq, elastic_only, blocks[i], vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds[i],
                         cbounds[i + 1], border, bcorner, iparts)
-    nb = bnodes.shape[0]
-    for i in prange(npart):  # the border nodes in as many groups as partitions
-        for j in range(i * nb // npart, (i + 1) * nb // npart):
-            sx = 0.0
-            sy = 0.0
-            for k in range(bptr[j], bptr[j + 1]):
-                cc = bcorn[k] >> 2
-                kk = bcorn[k] & 3
-                sx += bcorner[cc, kk]
-                sy += bcorner[cc, 4 + kk]
-            n = bnodes[j]
-            fx[n] = sx
-            fy[n] = sy
+    if sum_border:
+        nb = bnodes.shape[0]
+        for i in prange(npart):  # the border nodes in as many groups as partitions
+            border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, i * nb // npart, (i + 1) * nb // npart)
     if want_ie:
         return chunk_total(iparts, (conn.shape[0] + SUM_CHUNK - 1) >> SUM_SHIFT)
     return 0.0
@@ -1538,15 +1548,20 @@ def update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass
 
 @njit(cache=True, parallel=True)
 def nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
-                   bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, kparts, groups):
+                   bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, kparts, groups, bcorner, bnodes, bptr,
+                   bcorn, sum_border):
     """:func:`advance_nodes` over all nodes, ``groups`` runs of whole chunks of SUM_CHUNK nodes in parallel (each
-    chunk's kinetic energy sum into ``kparts``).  Returns the leapfrog kinetic energy at t^n when ``record`` (else
-    0), summed as the serial kernels do."""
+    chunk's kinetic energy sum into ``kparts``).  With ``sum_border``, first the forces of the chunk's border
+    nodes (:func:`border_sums`, the force pass having left them out).  Returns the leapfrog kinetic energy at
+    t^n when ``record`` (else 0), summed as the serial kernels do."""
     nn = vx.shape[0]
     nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
     for g in prange(groups):
         for i in range(g * nch // groups, (g + 1) * nch // groups):
             n0 = i << SUM_SHIFT
+            if sum_border:
+                border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, np.searchsorted(bnodes, n0),
+                            np.searchsorted(bnodes, min(n0 + SUM_CHUNK, nn)))
             kb = np.searchsorted(bc_nodes, n0)
             _, part, _ = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny,
                                        cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, n0,
@@ -1555,6 +1570,35 @@ def nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, ma
     if record:
         return 0.5 * chunk_total(kparts, nch)
     return 0.0
+
+
+@njit(cache=True, parallel=True)
+def border_velocities_parallel(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre, bcorner, bnodes,
+                               bptr, bcorn, groups):
+    """:func:`advance_velocities` after a force pass that left the border nodes out (:func:`forces_parallel` with
+    ``sum_border`` False): ``groups`` runs of whole chunks of SUM_CHUNK nodes in parallel, each chunk's border
+    nodes' forces first (:func:`border_sums`), then its nodes' velocities, the same operations per node.  One
+    parallel region where the force pass's border loop and the velocity pass took two."""
+    nn = vx.shape[0]
+    nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
+    for g in prange(groups):
+        for i in range(g * nch // groups, (g + 1) * nch // groups):
+            n0 = i << SUM_SHIFT
+            n1 = min(n0 + SUM_CHUNK, nn)
+            border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, np.searchsorted(bnodes, n0), np.searchsorted(bnodes, n1))
+            for n in range(n0, n1):
+                u = vx[n]
+                w = vy[n]
+                vx_old[n] = u
+                vy_old[n] = w
+                a = dt / mass[n]
+                u += a * fx[n]
+                w += a * fy[n]
+                vx[n] = u
+                vy[n] = w
+                if keep_pre:
+                    vx_pre[n] = u
+                    vy_pre[n] = w
 
 
 @njit(cache=True, parallel=True)
@@ -1593,16 +1637,19 @@ def cycle_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld,
                    works, mrecs, sums, cbounds, pnode_ptr, pnodes, border, bcorner, bnodes, bptr, bcorn, pdt, pbad):
     """:func:`cycle_serial` on the partitions, in three parallel passes: the forces (:func:`forces_parallel`),
     the nodes (:func:`nodes_parallel`), the cells (:func:`update_parallel`), with :func:`sum_groups` and the
-    constraints' :func:`impulse_work` between them on one thread.  ``sums`` (3, chunks): the chunk sums of the
-    internal energy, kinetic energy and viscous heat.  The same bytes as :func:`cycle_serial`; returns what it
-    returns."""
+    constraints' :func:`impulse_work` between them on one thread.  Without node groups the border nodes' force
+    sums run in the node pass's region (three parallel regions per cycle; with groups, which need the border
+    sums first, in the force pass's second loop: four).  ``sums`` (3, chunks): the chunk sums of the internal
+    energy, kinetic energy and viscous heat.  The same bytes as :func:`cycle_serial`; returns what it returns."""
+    grouped = grp_ptr.shape[0] > 1
     ie = forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
                          scl, scq, elastic_only, blocks, vcorner, fx, fy, e, e_el, cmass, record, cbounds, pnode_ptr,
-                         pnodes, border, bcorner, bnodes, bptr, bcorn, sums[0])
-    if grp_ptr.shape[0] > 1:
+                         pnodes, border, bcorner, bnodes, bptr, bcorn, sums[0], grouped)
+    if grouped:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
     ke = nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
-                        bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, sums[1], cbounds.shape[0] - 1)
+                        bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, sums[1], cbounds.shape[0] - 1, bcorner,
+                        bnodes, bptr, bcorn, not grouped)
     dtmin, bad, code, qv = update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e,
                                            e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl,
                                            cfl, dvmax, dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old,
