@@ -189,6 +189,8 @@ class Simulation:
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
         # position shifts' scratch (a tuple: no checkpoint keeps it): the nodes they move, zeros (never written)
         self._shift_scratch = (np.zeros(nn, np.bool_), np.zeros(nn))
+        # kernels.jump_works' chunk sums (interface work, boundary work); a tuple: no checkpoint keeps it
+        self._jump_parts = (np.zeros((2, (nn + K.SUM_CHUNK - 1) // K.SUM_CHUNK)),)
         self._grp = (problem.groups.ptr, problem.groups.nodes)
         # the one-thread cycle's wavefront (steps of `wave` cells; one step of all cells on a smaller mesh):
         # (node_wait, cell_wait, zero_wait, wave) and its ring of viscous corner forces (in tuples: scratch that
@@ -381,6 +383,18 @@ class Simulation:
                 for obj in self._after_interfaces:
                     obj.after_interfaces(s, dtv, s.t, s.cycle)
                 self._apply_position_shifts()
+            joint = bool(self.interfaces) and self._cons[0].shape[0] > 0
+            if joint:
+                # the interfaces' jumps J = v - v_free, added to _vx_pre; the constraints; their jumps v - v_pre
+                # over all nodes: the three steps below in one pass (jump_works: the same bytes)
+                works = K.jump_works_parallel if self._passes_parallel else K.jump_works
+                wi, wb = works(s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, self._vx_free, self._vy_free,
+                               self._jx_int_prev, self._jy_int_prev, self._vx_pre, self._vy_pre, self._jx_bc_prev,
+                               self._jy_bc_prev, *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons,
+                               self._jump_parts[0])
+                en.interface_work += wi
+                en.boundary_work += wb
+            elif self.interfaces:
                 # the interfaces' jumps J = v - v_free; added to _vx_pre (constraint impulses = what the
                 # constraints changed)
                 en.interface_work += self._impulse_work(
@@ -392,7 +406,7 @@ class Simulation:
                     self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, s.vx, s.vy,
                     self._jx_int_prev, self._jy_int_prev, False, self._vx_pre, self._vy_pre)
             self._int_active = bool(self.interfaces)
-            if self._cons[0].shape[0]:
+            if self._cons[0].shape[0] and not joint:
                 # without interfaces (this step and the last) the jumps live on the constrained nodes only
                 nodes = self._all_nodes if (self._int_active or int_prev) else self._bc_nodes
                 en.boundary_work += self._impulse_work(

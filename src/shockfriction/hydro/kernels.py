@@ -484,6 +484,65 @@ def impulse_work_parallel(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_re
     return 0.5 * chunk_total(parts, nch)
 
 
+def _jump_works_impl(mass_own, vx_old, vy_old, vx, vy, vx_free, vy_free, jx_int, jy_int, vx_pre, vy_pre, jx_bc, jy_bc,
+                     cnx, cny, cval, bc_nodes, bc_ptr, bc_cons, parts):
+    """After the interfaces, over all nodes in one pass (chunks of SUM_CHUNK nodes; in parallel in the twin):
+    the interfaces' jumps' work (:func:`impulse_work` of J = v - v_free, carried into (vx_pre, vy_pre)), the
+    constraints (:func:`apply_constraints`, each node's in list order: ``bc_cons[bc_ptr[k]:bc_ptr[k + 1]]`` of
+    ``bc_nodes[k]``), then the constraints' jumps' work (:func:`impulse_work` of J = v - v_pre).  Per node the
+    operations of those three calls in their order, so the same bytes; the two works per chunk into ``parts[0]``
+    and ``parts[1]``, then the chunks in order.  Returns (interface work, boundary work)."""
+    nn = vx.shape[0]
+    nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
+    nbc = bc_nodes.shape[0]
+    for i in prange(nch):
+        n0 = i << SUM_SHIFT
+        kb = np.searchsorted(bc_nodes, n0)
+        nxt = bc_nodes[kb] if kb < nbc else -1
+        wi = 0.0
+        wb = 0.0
+        for n in range(n0, min(n0 + SUM_CHUNK, nn)):
+            u = vx[n]
+            w = vy[n]
+            jx = u - vx_free[n]
+            jy = w - vy_free[n]
+            wi += mass_own[n] * (vx_old[n] * (jx + jx_int[n]) + vy_old[n] * (jy + jy_int[n]))
+            jx_int[n] = jx
+            jy_int[n] = jy
+            px = vx_pre[n] + jx
+            py = vy_pre[n] + jy
+            vx_pre[n] = px
+            vy_pre[n] = py
+            if n == nxt:
+                for j in range(bc_ptr[kb], bc_ptr[kb + 1]):
+                    k = bc_cons[j]
+                    d = u * cnx[k] + w * cny[k] - cval[k]
+                    if d != 0.0:
+                        u += -d * cnx[k]
+                        w += -d * cny[k]
+                vx[n] = u
+                vy[n] = w
+                kb += 1
+                nxt = bc_nodes[kb] if kb < nbc else -1
+            jx = u - px
+            jy = w - py
+            wb += mass_own[n] * (vx_old[n] * (jx + jx_bc[n]) + vy_old[n] * (jy + jy_bc[n]))
+            jx_bc[n] = jx
+            jy_bc[n] = jy
+        parts[0, i] = wi
+        parts[1, i] = wb
+    ti = 0.0
+    tb = 0.0
+    for i in range(nch):
+        ti += parts[0, i]
+        tb += parts[1, i]
+    return 0.5 * ti, 0.5 * tb
+
+
+jump_works = njit(cache=True, **NO_REFCOUNT)(_jump_works_impl)
+jump_works_parallel = njit(cache=True, parallel=True)(_twin(_jump_works_impl, "_parallel"))
+
+
 def _shift_nodes_impl(x, y, sx, sy, fx, fy, mass_own, mass, parts, moved):
     """Move x^n by the position shifts (sx, sy) and zero them; returns sum (m_own/m) F . dx (per chunk of
     SUM_CHUNK nodes, then the chunks in order: module docstring, "Sums").  moved[n]: whether node n moved."""
