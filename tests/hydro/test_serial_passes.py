@@ -228,3 +228,41 @@ def test_partition_count_is_a_whole_number_per_thread():
     for threads in range(1, 20):
         for cells in (100, 5_000, 40_000, 70_000, 640_000):
             assert partition_count(threads, cells) % threads == 0
+
+
+@pytest.mark.parametrize("parallel", [False, True])
+def test_jump_works_match_the_three_calls(parallel):
+    """kernels.jump_works (one pass: the interfaces' jumps' work carried into v_pre, the constraints, the
+    constraints' jumps' work) gives the bytes of impulse_work + apply_constraints + impulse_work, on a mesh with a
+    node of two constraints (the corner), nodes past a whole chunk (a partial last chunk) and jumps from the last
+    step."""
+    sim = prepare(block_deck(False, 24))  # 625 nodes: 9 chunks of 64 and one of 49
+    s = sim.state
+    nn = s.n_nodes
+    assert nn % K.SUM_CHUNK and nn > 4 * K.SUM_CHUNK
+    rng = np.random.default_rng(7)
+    vx_old, vy_old = rng.normal(size=nn), rng.normal(size=nn)
+    vx, vy = rng.normal(size=nn), rng.normal(size=nn)
+    vx_free, vy_free = vx + 0.1 * rng.normal(size=nn), vy + 0.1 * rng.normal(size=nn)
+    vx_pre, vy_pre = rng.normal(size=nn), rng.normal(size=nn)
+    jint = rng.normal(size=(2, nn))
+    jbc = rng.normal(size=(2, nn))
+    mass_own = s.mass_own
+    cnode, cnx, cny, cval = sim._cons
+    assert np.bincount(cnode).max() == 2
+    # the three calls
+    a = [x.copy() for x in (vx, vy, vx_pre, vy_pre, *jint, *jbc)]
+    allnodes = np.arange(nn, dtype=np.int64)
+    wi = K.impulse_work(allnodes, mass_own, vx_old, vy_old, a[0], a[1], vx_free, vy_free, a[4], a[5], True, a[2],
+                        a[3])
+    K.apply_constraints(a[0], a[1], vx_old, vy_old, mass_own, cnode, cnx, cny, cval, 1e-9)
+    wb = K.impulse_work(allnodes, mass_own, vx_old, vy_old, a[0], a[1], a[2], a[3], a[6], a[7], False, a[2], a[3])
+    # one pass
+    b = [x.copy() for x in (vx, vy, vx_pre, vy_pre, *jint, *jbc)]
+    works = K.jump_works_parallel if parallel else K.jump_works
+    wi2, wb2 = works(mass_own, vx_old, vy_old, b[0], b[1], vx_free, vy_free, b[4], b[5], b[2], b[3], b[6], b[7], cnx,
+                     cny, cval, sim._bc_nodes, sim._bc_ptr, sim._bc_cons, np.zeros((2, nn // K.SUM_CHUNK + 1)))
+    assert wi2 == wi and wb2 == wb
+    assert wb != 0.0 and wi != 0.0
+    for x, y in zip(a, b):
+        assert x.tobytes() == y.tobytes()

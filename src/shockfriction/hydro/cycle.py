@@ -189,6 +189,8 @@ class Simulation:
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
         # position shifts' scratch (a tuple: no checkpoint keeps it): the nodes they move, zeros (never written)
         self._shift_scratch = (np.zeros(nn, np.bool_), np.zeros(nn))
+        # kernels.jump_works' chunk sums (interface work, boundary work); a tuple: no checkpoint keeps it
+        self._jump_parts = (np.zeros((2, (nn + K.SUM_CHUNK - 1) // K.SUM_CHUNK)),)
         self._grp = (problem.groups.ptr, problem.groups.nodes)
         # the one-thread cycle's wavefront (steps of `wave` cells; one step of all cells on a smaller mesh):
         # (node_wait, cell_wait, zero_wait, wave) and its ring of viscous corner forces (in tuples: scratch that
@@ -279,10 +281,11 @@ class Simulation:
             f"body {name!r}, {where} [global cell {cell}]: {K.ERR_MESSAGES.get(code, 'error')} "
             f"at cycle {s.cycle}, t = {s.t:.6e} s (dt = {s.dt:.3e} s)")
 
-    def _forces(self, want_ie: bool) -> float:
+    def _forces(self, want_ie: bool, sum_border: bool = True) -> float:
         """Nodal forces F^n into state.fx, fy (viscous corner forces kept for their heat) in one
         pass over the cells (+ a gather over the nodes when parallel); returns the internal
-        energy at t^n if ``want_ie`` (else 0)."""
+        energy at t^n if ``want_ie`` (else 0).  ``sum_border`` False (parallel kernels): the border nodes' forces
+        are left to :func:`~shockfriction.hydro.kernels.border_velocities_parallel`."""
         s = self.state
         args = (s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
                 s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
@@ -290,7 +293,7 @@ class Simulation:
         if self.parallel:  # the same sums as the serial pass, whatever the thread count (kernels, "Sums")
             with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
                 return K.forces_parallel(*args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e, s.e_el,
-                                         s.cell_mass, want_ie, *self._partition_args())
+                                         s.cell_mass, want_ie, *self._partition_args(), sum_border)
         return K.cell_forces_serial(*args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass,
                                     want_ie)
 
@@ -347,15 +350,26 @@ class Simulation:
             if self._cons[0].shape[0]:
                 en.boundary_work += wbc
         else:
-            # 1-2 forces (and the internal energy at t^n for the history row)
-            ie = self._forces(record)
-            if self._grp[0].shape[0] > 1:
+            # 1-2 forces (and the internal energy at t^n for the history row); 3 free velocities (v^{n-1/2} kept
+            # in _vx_old, v* in _vx_pre): on the parallel path without node groups the border nodes' force sums
+            # and the velocities in one parallel region (the same bytes)
+            grouped = self._grp[0].shape[0] > 1
+            fused = self._passes_parallel and not grouped
+            ie = self._forces(record, not fused)
+            if grouped:
                 K.sum_groups(s.fx, s.fy, *self._grp)
             q_before = en.interface_heat
-            # 3 free velocities (v^{n-1/2} kept in _vx_old, v* in _vx_pre) and boundary constraints
-            advance = K.advance_velocities_parallel if self._passes_parallel else K.advance_velocities
-            advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
-                                 self._vy_pre, True)
+            if fused:
+                _, _, bcorner, (bnodes, bptr, bcorn) = self._force_scratch[1]
+                with numba.parallel_chunksize(1):
+                    K.border_velocities_parallel(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old,
+                                                 self._vx_pre, self._vy_pre, True, bcorner, bnodes, bptr, bcorn,
+                                                 self._partition_args()[0].shape[0] - 1)
+            else:
+                advance = K.advance_velocities_parallel if self._passes_parallel else K.advance_velocities
+                advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
+                        self._vy_pre, True)
+            # and the boundary constraints
             K.apply_constraints(s.vx, s.vy, self._vx_old, self._vy_old, s.mass_own, *self._cons, dtv)
             # 4 interfaces
             int_prev = self._int_active
@@ -369,6 +383,18 @@ class Simulation:
                 for obj in self._after_interfaces:
                     obj.after_interfaces(s, dtv, s.t, s.cycle)
                 self._apply_position_shifts()
+            joint = bool(self.interfaces) and self._cons[0].shape[0] > 0
+            if joint:
+                # the interfaces' jumps J = v - v_free, added to _vx_pre; the constraints; their jumps v - v_pre
+                # over all nodes: the three steps below in one pass (jump_works: the same bytes)
+                works = K.jump_works_parallel if self._passes_parallel else K.jump_works
+                wi, wb = works(s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, self._vx_free, self._vy_free,
+                               self._jx_int_prev, self._jy_int_prev, self._vx_pre, self._vy_pre, self._jx_bc_prev,
+                               self._jy_bc_prev, *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons,
+                               self._jump_parts[0])
+                en.interface_work += wi
+                en.boundary_work += wb
+            elif self.interfaces:
                 # the interfaces' jumps J = v - v_free; added to _vx_pre (constraint impulses = what the
                 # constraints changed)
                 en.interface_work += self._impulse_work(
@@ -380,7 +406,7 @@ class Simulation:
                     self._all_nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, s.vx, s.vy,
                     self._jx_int_prev, self._jy_int_prev, False, self._vx_pre, self._vy_pre)
             self._int_active = bool(self.interfaces)
-            if self._cons[0].shape[0]:
+            if self._cons[0].shape[0] and not joint:
                 # without interfaces (this step and the last) the jumps live on the constrained nodes only
                 nodes = self._all_nodes if (self._int_active or int_prev) else self._bc_nodes
                 en.boundary_work += self._impulse_work(

@@ -484,6 +484,65 @@ def impulse_work_parallel(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_re
     return 0.5 * chunk_total(parts, nch)
 
 
+def _jump_works_impl(mass_own, vx_old, vy_old, vx, vy, vx_free, vy_free, jx_int, jy_int, vx_pre, vy_pre, jx_bc, jy_bc,
+                     cnx, cny, cval, bc_nodes, bc_ptr, bc_cons, parts):
+    """After the interfaces, over all nodes in one pass (chunks of SUM_CHUNK nodes; in parallel in the twin):
+    the interfaces' jumps' work (:func:`impulse_work` of J = v - v_free, carried into (vx_pre, vy_pre)), the
+    constraints (:func:`apply_constraints`, each node's in list order: ``bc_cons[bc_ptr[k]:bc_ptr[k + 1]]`` of
+    ``bc_nodes[k]``), then the constraints' jumps' work (:func:`impulse_work` of J = v - v_pre).  Per node the
+    operations of those three calls in their order, so the same bytes; the two works per chunk into ``parts[0]``
+    and ``parts[1]``, then the chunks in order.  Returns (interface work, boundary work)."""
+    nn = vx.shape[0]
+    nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
+    nbc = bc_nodes.shape[0]
+    for i in prange(nch):
+        n0 = i << SUM_SHIFT
+        kb = np.searchsorted(bc_nodes, n0)
+        nxt = bc_nodes[kb] if kb < nbc else -1
+        wi = 0.0
+        wb = 0.0
+        for n in range(n0, min(n0 + SUM_CHUNK, nn)):
+            u = vx[n]
+            w = vy[n]
+            jx = u - vx_free[n]
+            jy = w - vy_free[n]
+            wi += mass_own[n] * (vx_old[n] * (jx + jx_int[n]) + vy_old[n] * (jy + jy_int[n]))
+            jx_int[n] = jx
+            jy_int[n] = jy
+            px = vx_pre[n] + jx
+            py = vy_pre[n] + jy
+            vx_pre[n] = px
+            vy_pre[n] = py
+            if n == nxt:
+                for j in range(bc_ptr[kb], bc_ptr[kb + 1]):
+                    k = bc_cons[j]
+                    d = u * cnx[k] + w * cny[k] - cval[k]
+                    if d != 0.0:
+                        u += -d * cnx[k]
+                        w += -d * cny[k]
+                vx[n] = u
+                vy[n] = w
+                kb += 1
+                nxt = bc_nodes[kb] if kb < nbc else -1
+            jx = u - px
+            jy = w - py
+            wb += mass_own[n] * (vx_old[n] * (jx + jx_bc[n]) + vy_old[n] * (jy + jy_bc[n]))
+            jx_bc[n] = jx
+            jy_bc[n] = jy
+        parts[0, i] = wi
+        parts[1, i] = wb
+    ti = 0.0
+    tb = 0.0
+    for i in range(nch):
+        ti += parts[0, i]
+        tb += parts[1, i]
+    return 0.5 * ti, 0.5 * tb
+
+
+jump_works = njit(cache=True, **NO_REFCOUNT)(_jump_works_impl)
+jump_works_parallel = njit(cache=True, parallel=True)(_twin(_jump_works_impl, "_parallel"))
+
+
 def _shift_nodes_impl(x, y, sx, sy, fx, fy, mass_own, mass, parts, moved):
     """Move x^n by the position shifts (sx, sy) and zero them; returns sum (m_own/m) F . dx (per chunk of
     SUM_CHUNK nodes, then the chunks in order: module docstring, "Sums").  moved[n]: whether node n moved."""
@@ -1135,14 +1194,10 @@ def update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
     for k in range(start, stop):
         b0 = k * UPDATE_BLOCK
         b1 = min(b0 + bs, nc)
-        r0 = b0 % ring
-        dtb, badb, codeb, qv = _update_block(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table,
-                                             cmass[b0:b1], vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1],
-                                             q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1],
-                                             temp[b0:b1], shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl,
-                                             dvmax, dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
-                                             vcorner[r0:r0 + b1 - b0], vx_old, vy_old, dtv, wb, mrec, qv,
-                                             qparts[b0 >> SUM_SHIFT:])
+        dtb, badb, codeb, qv = _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho,
+                                             e, e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq,
+                                             cl, cfl, dvmax, dtcell, errcell, qedge, dmg, heat_now, vcorner, vx_old,
+                                             vy_old, dtv, wb, mrec, qv, qparts, b0, b1, b0 % ring)
         if badb >= 0:
             if bad < 0:
                 bad = b0 + badb
@@ -1155,17 +1210,25 @@ def update_blocks(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, 
 @njit(cache=True, **NO_REFCOUNT)
 def _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                   sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
-                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0, qparts):
-    """:func:`update_cells_serial` with the literal flags of plane strain with the bulk q."""
+                  heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0, qparts, b0, b1, r0):
+    """:func:`update_cells_serial` on the cells b0 .. b1 - 1, the one block call of :func:`update_blocks` (serial)
+    and :func:`update_range` (a partition): the cell arrays cut to the block here, ``vcorner`` from its row ``r0``
+    (a ring's row, or b0), ``qparts`` from the block's chunk; with the literal flags of plane strain with the bulk
+    q."""
+    nb = b1 - b0
     if axi or qedge:
-        return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
-                                   q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
-                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0,
-                                   qparts)
-    return update_cells_serial(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q,
-                               sxx, syy, sxy, eps_p, temp, shear, yld, cs, False, dt, cq, cl, cfl, dvmax, dtcell,
-                               errcell, False, dmg, heat_now, vcorner, vx_old, vy_old, dtv, work, mrec, qv0,
-                               qparts)
+        return update_cells_serial(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table, cmass[b0:b1],
+                                   vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1], q[b0:b1], sxx[b0:b1],
+                                   syy[b0:b1], sxy[b0:b1], eps_p[b0:b1], temp[b0:b1], shear[b0:b1], yld[b0:b1],
+                                   cs[b0:b1], axi, dt, cq, cl, cfl, dvmax, dtcell[b0:b1], errcell[b0:b1], qedge,
+                                   dmg[b0:b1], heat_now, vcorner[r0:r0 + nb], vx_old, vy_old, dtv, work, mrec, qv0,
+                                   qparts[b0 >> SUM_SHIFT:])
+    return update_cells_serial(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table, cmass[b0:b1],
+                               vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1], q[b0:b1], sxx[b0:b1],
+                               syy[b0:b1], sxy[b0:b1], eps_p[b0:b1], temp[b0:b1], shear[b0:b1], yld[b0:b1],
+                               cs[b0:b1], False, dt, cq, cl, cfl, dvmax, dtcell[b0:b1], errcell[b0:b1], False,
+                               dmg[b0:b1], heat_now, vcorner[r0:r0 + nb], vx_old, vy_old, dtv, work, mrec, qv0,
+                               qparts[b0 >> SUM_SHIFT:])
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -1438,15 +1501,34 @@ def forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld
             iparts[c0 >> SUM_SHIFT] = blk
 
 
+@njit(cache=True, inline="always")
+def border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, j0, j1):
+    """The forces of the border nodes ``bnodes[j0:j1]``: each the sum of its corners' forces from ``bcorner`` in
+    cell order (``bcorn[bptr[j]:bptr[j + 1]]`` = 4 c + k of border node ``bnodes[j]``, ascending), from 0.0, as
+    the serial pass adds them."""
+    for j in range(j0, j1):
+        sx = 0.0
+        sy = 0.0
+        for k in range(bptr[j], bptr[j + 1]):
+            cc = bcorn[k] >> 2
+            kk = bcorn[k] & 3
+            sx += bcorner[cc, kk]
+            sy += bcorner[cc, 4 + kk]
+        n = bnodes[j]
+        fx[n] = sx
+        fy[n] = sy
+
+
 @njit(cache=True, parallel=True)
 def forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                     scq, elastic_only, blocks, vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds, pnode_ptr, pnodes,
-                    border, bcorner, bnodes, bptr, bcorn, iparts):
+                    border, bcorner, bnodes, bptr, bcorn, iparts, sum_border=True):
     """The force pass (:func:`cell_forces_serial`) over the partitions in parallel: partition i zeroes its own
     nodes' forces and runs :func:`forces_of_range` on its cells (``blocks[i]`` its block scratch); then each
-    border node's force is the sum of its corners' forces from ``bcorner`` in cell order (``bcorn[bptr[j]:bptr[j
-    + 1]]`` = 4 c + k of border node ``bnodes[j]``, ascending), from 0.0, as the serial pass adds them.  Returns
-    the internal energy at t^n when ``want_ie`` (else 0), summed as the serial pass does."""
+    border node's force is the sum of its corners' forces from ``bcorner`` in cell order (:func:`border_sums`),
+    as the serial pass adds them: here, in a second parallel loop, with ``sum_border``, else by the caller
+    (:func:`cycle_parallel` has the node pass do it, one parallel region fewer).  Returns the internal energy at
+    t^n when ``want_ie`` (else 0), summed as the serial pass does."""
     npart = cbounds.shape[0] - 1
     for i in prange(npart):
         for j in range(pnode_ptr[i], pnode_ptr[i + 1]):
@@ -1456,19 +1538,10 @@ def forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld
         forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
                         scl, scq, elastic_only, blocks[i], vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds[i],
                         cbounds[i + 1], border, bcorner, iparts)
-    nb = bnodes.shape[0]
-    for i in prange(npart):  # the border nodes in as many groups as partitions
-        for j in range(i * nb // npart, (i + 1) * nb // npart):
-            sx = 0.0
-            sy = 0.0
-            for k in range(bptr[j], bptr[j + 1]):
-                cc = bcorn[k] >> 2
-                kk = bcorn[k] & 3
-                sx += bcorner[cc, kk]
-                sy += bcorner[cc, 4 + kk]
-            n = bnodes[j]
-            fx[n] = sx
-            fy[n] = sy
+    if sum_border:
+        nb = bnodes.shape[0]
+        for i in prange(npart):  # the border nodes in as many groups as partitions
+            border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, i * nb // npart, (i + 1) * nb // npart)
     if want_ie:
         return chunk_total(iparts, (conn.shape[0] + SUM_CHUNK - 1) >> SUM_SHIFT)
     return 0.0
@@ -1487,13 +1560,10 @@ def update_range(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, v
     wb = work.reshape(-1)[:11 * UPDATE_BLOCK].reshape(11, UPDATE_BLOCK)
     for b0 in range(start, stop, UPDATE_BLOCK):
         b1 = min(b0 + UPDATE_BLOCK, stop)
-        dtb, badb, codeb, _ = _update_block(conn[b0:b1], x_half, y_half, x, y, vx, vy, mat[b0:b1], props, table,
-                                            cmass[b0:b1], vol[b0:b1], rho[b0:b1], e[b0:b1], e_el[b0:b1], p[b0:b1],
-                                            q[b0:b1], sxx[b0:b1], syy[b0:b1], sxy[b0:b1], eps_p[b0:b1], temp[b0:b1],
-                                            shear[b0:b1], yld[b0:b1], cs[b0:b1], axi, dt, cq, cl, cfl, dvmax,
-                                            dtcell[b0:b1], errcell[b0:b1], qedge, dmg[b0:b1], heat_now,
-                                            vcorner[b0:b1], vx_old, vy_old, dtv, wb, mrec, 0.0,
-                                            qparts[b0 >> SUM_SHIFT:])
+        dtb, badb, codeb, _ = _update_block(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho,
+                                            e, e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl,
+                                            cfl, dvmax, dtcell, errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old,
+                                            dtv, wb, mrec, 0.0, qparts, b0, b1, b0)
         if badb >= 0:
             if bad < 0:
                 bad = b0 + badb
@@ -1537,15 +1607,20 @@ def update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass
 
 @njit(cache=True, parallel=True)
 def nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
-                   bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, kparts, groups):
+                   bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, kparts, groups, bcorner, bnodes, bptr,
+                   bcorn, sum_border):
     """:func:`advance_nodes` over all nodes, ``groups`` runs of whole chunks of SUM_CHUNK nodes in parallel (each
-    chunk's kinetic energy sum into ``kparts``).  Returns the leapfrog kinetic energy at t^n when ``record`` (else
-    0), summed as the serial kernels do."""
+    chunk's kinetic energy sum into ``kparts``).  With ``sum_border``, first the forces of the chunk's border
+    nodes (:func:`border_sums`, the force pass having left them out).  Returns the leapfrog kinetic energy at
+    t^n when ``record`` (else 0), summed as the serial kernels do."""
     nn = vx.shape[0]
     nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
     for g in prange(groups):
         for i in range(g * nch // groups, (g + 1) * nch // groups):
             n0 = i << SUM_SHIFT
+            if sum_border:
+                border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, np.searchsorted(bnodes, n0),
+                            np.searchsorted(bnodes, min(n0 + SUM_CHUNK, nn)))
             kb = np.searchsorted(bc_nodes, n0)
             _, part, _ = advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny,
                                        cval, bc_nodes, bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, n0,
@@ -1554,6 +1629,35 @@ def nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, ma
     if record:
         return 0.5 * chunk_total(kparts, nch)
     return 0.0
+
+
+@njit(cache=True, parallel=True)
+def border_velocities_parallel(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre, bcorner, bnodes,
+                               bptr, bcorn, groups):
+    """:func:`advance_velocities` after a force pass that left the border nodes out (:func:`forces_parallel` with
+    ``sum_border`` False): ``groups`` runs of whole chunks of SUM_CHUNK nodes in parallel, each chunk's border
+    nodes' forces first (:func:`border_sums`), then its nodes' velocities, the same operations per node.  One
+    parallel region where the force pass's border loop and the velocity pass took two."""
+    nn = vx.shape[0]
+    nch = (nn + SUM_CHUNK - 1) >> SUM_SHIFT
+    for g in prange(groups):
+        for i in range(g * nch // groups, (g + 1) * nch // groups):
+            n0 = i << SUM_SHIFT
+            n1 = min(n0 + SUM_CHUNK, nn)
+            border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, np.searchsorted(bnodes, n0), np.searchsorted(bnodes, n1))
+            for n in range(n0, n1):
+                u = vx[n]
+                w = vy[n]
+                vx_old[n] = u
+                vy_old[n] = w
+                a = dt / mass[n]
+                u += a * fx[n]
+                w += a * fy[n]
+                vx[n] = u
+                vy[n] = w
+                if keep_pre:
+                    vx_pre[n] = u
+                    vy_pre[n] = w
 
 
 @njit(cache=True, parallel=True)
@@ -1592,16 +1696,19 @@ def cycle_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld,
                    works, mrecs, sums, cbounds, pnode_ptr, pnodes, border, bcorner, bnodes, bptr, bcorn, pdt, pbad):
     """:func:`cycle_serial` on the partitions, in three parallel passes: the forces (:func:`forces_parallel`),
     the nodes (:func:`nodes_parallel`), the cells (:func:`update_parallel`), with :func:`sum_groups` and the
-    constraints' :func:`impulse_work` between them on one thread.  ``sums`` (3, chunks): the chunk sums of the
-    internal energy, kinetic energy and viscous heat.  The same bytes as :func:`cycle_serial`; returns what it
-    returns."""
+    constraints' :func:`impulse_work` between them on one thread.  Without node groups the border nodes' force
+    sums run in the node pass's region (three parallel regions per cycle; with groups, which need the border
+    sums first, in the force pass's second loop: four).  ``sums`` (3, chunks): the chunk sums of the internal
+    energy, kinetic energy and viscous heat.  The same bytes as :func:`cycle_serial`; returns what it returns."""
+    grouped = grp_ptr.shape[0] > 1
     ie = forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
                          scl, scq, elastic_only, blocks, vcorner, fx, fy, e, e_el, cmass, record, cbounds, pnode_ptr,
-                         pnodes, border, bcorner, bnodes, bptr, bcorn, sums[0])
-    if grp_ptr.shape[0] > 1:
+                         pnodes, border, bcorner, bnodes, bptr, bcorn, sums[0], grouped)
+    if grouped:
         sum_groups(fx, fy, grp_ptr, grp_nodes)
     ke = nodes_parallel(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mass_own, cnx, cny, cval, bc_nodes,
-                        bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, sums[1], cbounds.shape[0] - 1)
+                        bc_ptr, bc_cons, record, x, y, dt, x_half, y_half, sums[1], cbounds.shape[0] - 1, bcorner,
+                        bnodes, bptr, bcorn, not grouped)
     dtmin, bad, code, qv = update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e,
                                            e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl,
                                            cfl, dvmax, dtcell, errcell, qedge, dmg, True, vcorner, vx_old, vy_old,
