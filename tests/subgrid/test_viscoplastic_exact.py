@@ -22,8 +22,9 @@ CS = math.sqrt(G_P / AL.rho0)
 MELT = {"latent_heat": 3.97e5, "liquid_viscosity": 0.844e-3}
 
 
-def wave_run(t_end, n_cells=100, h=4e-6, V=1.0):
-    c = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=h, n_cells=n_cells, inertia=True, **MELT)
+def wave_run(t_end, n_cells=100, h=4e-6, V=1.0, scheme="backward_euler"):
+    c = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=h, n_cells=n_cells, inertia=True, time_scheme=scheme,
+                            **MELT)
     dt = 0.25 * (h / n_cells) / CS
     n = int(round(t_end / dt))
     for _ in range(n):
@@ -31,10 +32,14 @@ def wave_run(t_end, n_cells=100, h=4e-6, V=1.0):
     return c, n * dt
 
 
-def test_shear_wave_matches_dalembert():
-    """tau(z, t) = rho c_s V H(c_s t - z): plateau value and front position (inertia on, elastic)."""
+@pytest.mark.parametrize("scheme", ["bdf2", "backward_euler"])
+def test_shear_wave_matches_dalembert(scheme):
+    """tau(z, t) = rho c_s V H(c_s t - z): plateau value and front position (inertia on, elastic), at Courant 0.25
+    (the production Courant number, ~80: tests/subgrid/test_viscoplastic_time.py).  BDF2 shows the staggered grid's
+    dispersive ripples behind the front (max 0.146 of the plateau, mean -4.0e-3 over the 1.7 um behind it) that
+    backward Euler damps (mean 1e-5)."""
     V = 1.0
-    c, t = wave_run(0.6e-9)
+    c, t = wave_run(0.6e-9, scheme=scheme)
     Z = ZP
     s = c.stress[0] / (Z * V)
     zc = 0.5 * (c.z[1:] + c.z[:-1])
@@ -46,7 +51,10 @@ def test_shear_wave_matches_dalembert():
     dz = c.z[1]
     print(f"\nplateau {plateau:.5f} (exact 1), front {zc[k]*1e6:.3f} um vs {front*1e6:.3f} um (dz {dz*1e9:.0f} nm), "
           f"max |s - 1| behind {np.max(np.abs(s[behind] - 1)):.3f}")
-    assert plateau == pytest.approx(1.0, abs=1e-4)  # measured 1e-5 (backward Euler: no ripples)
+    if scheme == "backward_euler":
+        assert plateau == pytest.approx(1.0, abs=1e-4)  # measured 1e-5 (backward Euler: no ripples)
+    else:
+        assert plateau == pytest.approx(1.0, abs=6e-3)  # measured -4.0e-3 (the grid's ripples, not damped)
     assert abs(zc[k] - front) < 1.0 * dz
     assert np.all(np.abs(s[zc > front + 0.5e-6]) < 0.05)   # nothing ahead of the front
     # the surface traction is the impedance times the imposed velocity
@@ -63,7 +71,7 @@ def test_far_end_impedance_does_not_reflect():
     print(f"\nafter exit: stress/ZV in [{s.min():.4f}, {s.max():.4f}], v/V in [{c.v.min():.4f}, {c.v.max():.4f}]")
     print(f"mean stress/ZV {s.mean():.5f}, mean v/V {c.v.mean():.5f}")
     assert abs(s.mean() - 1.0) < 1e-4 and abs(c.v.mean() / V - 1.0) < 1e-4   # a reflection would give O(1)
-    assert np.max(np.abs(s - 1.0)) < 1e-3      # measured 3e-4 (the smeared tail of the front)
+    assert np.max(np.abs(s - 1.0)) < 1e-3      # measured 3e-4 (the smeared tail of the front; BDF2: 4.5e-3, ripples)
     assert np.max(np.abs(c.v[:, 0] / V - 1.0)) < 1e-3
     assert c.energies()["radiated"][0] > 0.0
 
@@ -217,8 +225,12 @@ def _couette_partly_molten_exact(eta_of, T_m, kappa, V, h, T_h):
 PM = {"eta_F": 0.2, "E_R": 2.0e4, "V_act": 2.1e-6, "V": 600.0, "h": 4e-6, "p": 1e9}
 
 
-def _partly_molten_run(n_cells):
-    """The partly molten Couette case on n_cells: (column, s, delta, T0, T_m, T_h, T_exact(z), viscosity(T))."""
+def _partly_molten_run(n_cells, scheme="backward_euler"):
+    """The partly molten Couette case on n_cells: (column, s, delta, T0, T_m, T_h, T_exact(z), viscosity(T)).
+    Backward Euler: with BDF2 (used until the first melt) the run settles, after 2.5 us, in a state with
+    tau 1.3 % above the exact one and the solid band at the front still creeping at 0.24 m/s (7e-4 m/s and tau
+    +1.3 % after 10 us); backward Euler at 5 and 2.5 ns steps reaches the same state to 1e-6.  The steady partly
+    molten state depends on the path (the creeping band's hardening); not settled (docs, "Time accuracy")."""
     from shockfriction.friction.subgrid.viscoplastic import R_GAS, liquid_viscosity
     from shockfriction.materials.strength import scg_melt_temperature
 
@@ -229,7 +241,7 @@ def _partly_molten_run(n_cells):
     pV_R = p * V_act / R_GAS
     c = ViscoplasticColumns(1, AL, beta_T=BETA, thickness=h, n_cells=n_cells, inertia=True, far_end="held", f=None,
                             latent_heat=3.97e5, liquid_viscosity=eta_F, liquid_activation=E_R, far_temperature=T_h,
-                            pressure_melting=True, liquid_activation_volume=V_act)
+                            pressure_melting=True, liquid_activation_volume=V_act, time_scheme=scheme)
     c.set_temperature(T_h)   # solid at T_h (the far node keeps it: the fixed far temperature)
     for _ in range(500):
         c.step(p, V, V, 0.0, 1e12, 5e-9)

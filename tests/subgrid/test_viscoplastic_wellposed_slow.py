@@ -12,7 +12,8 @@ column and nothing reaches its far end.  Interface temperature Theta and frictio
   r 1.05 -> 1.025:                 dTheta, dtau   2.0e-3, 6.7e-5        4.7e-5, 3.0e-5   (the 1 us row sets these)
 
 (maximum over both times).  The issue asks < 1 %.  Without the continuation (the column stops at h) the answer is
-the column's: tau changes by +87 % between h = 20 and 40 um at f = 0.7, 0.3 us (last test).
+the column's: between h = 20 and 40 um at f = 0.7, 0.3 us, tau +18 % and Theta(0) -17 % (+87 % in tau with the
+ambient melting temperature; last test).
 """
 
 import math
@@ -30,9 +31,9 @@ DEPTH = 1.2 * math.sqrt(AL.G0 * scg_shear_ratio(10e9, 300.0, AL.scg_g, AL.scg_h,
                                                 AL.melting_temperature) / AL.rho0) * 1e-6
 
 
-def run(f, h, cells, ratio=1.05, depth=DEPTH, steps=max(TIMES)):
+def run(f, h, cells, ratio=1.05, depth=DEPTH, steps=max(TIMES), **kw):
     c = ViscoplasticColumns(1, AL, beta_T=heat_share(AL, ST), f=f, thickness=h, n_cells=cells, inertia=True,
-                            depth=depth, depth_ratio=ratio)
+                            depth=depth, depth_ratio=ratio, **kw)
     out = {}
     for n in range(1, steps + 1):
         tau, _ = c.step(10e9, 200.0, 200.0, 0.0, 3e9, 1e-9)
@@ -71,9 +72,19 @@ def test_independent_of_the_column(runs, which):
 
 @pytest.mark.slow
 def test_without_continuation_the_column_sets_the_answer():
-    """The ch. 8 set-up (column ends at h, impedance there): the answer is the column's, not the physics'."""
+    """The ch. 8 set-up (column ends at h, impedance there): the answer is the column's, not the physics'.
+    h 20 -> 40 um at f = 0.7, 0.3 us: tau +18 %, Theta(0) 1478 -> 1220 K (-17 %).  With the ambient melting
+    temperature (pressure_melting=False, as when this test was written) tau +87 % (Theta 1219 -> 1213 K): the thin
+    column then sits at the ambient T_F (~1220 K) where G and Y vanish; the SCG melt law puts T_m(10 GPa) far above
+    it, so the thin column now runs 260 K hotter instead and the column shows in Theta(0) more than in tau."""
     thin = run(0.7, 20e-6, 500, depth=None, steps=300)
     thick = run(0.7, 40e-6, 1000, depth=None, steps=300)
     dtau = thick[300][1] / thin[300][1] - 1
-    print(f"\nno continuation, f = 0.7, 0.3 us, h 20 -> 40 um: dtau {dtau:+.2f}", end="")
-    assert dtau > 0.5  # measured +0.87
+    dT = thick[300][0] / thin[300][0] - 1
+    print(f"\nno continuation, f = 0.7, 0.3 us, h 20 -> 40 um: dtau {dtau:+.3f}, dTheta {dT:+.3f}", end="")
+    assert dtau > 0.1 and dT < -0.1  # measured +0.176, -0.175
+    thin = run(0.7, 20e-6, 500, depth=None, steps=300, pressure_melting=False)
+    thick = run(0.7, 40e-6, 1000, depth=None, steps=300, pressure_melting=False)
+    dtau = thick[300][1] / thin[300][1] - 1
+    print(f"; ambient melting: dtau {dtau:+.3f}", end="")
+    assert dtau > 0.5  # measured +0.874

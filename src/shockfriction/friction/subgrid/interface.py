@@ -87,7 +87,7 @@ from shockfriction.materials.library import Material, get_material, heat_share
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
 #: the keys of ``viscoplastic=`` (ViscoplasticColumns keywords; see _init_viscoplastic)
 VISCOPLASTIC_OPTIONS = ("eta_vp", "inertia", "tresca", "depth", "depth_ratio", "far_end", "picard_tol", "heat",
-                        "pressure_melting")
+                        "pressure_melting", "time_scheme")
 #: how the viscoplastic columns share the frictional heat: "two-sided" (a thermal column in the other body, joined
 #: by continuity of temperature and flux; the default where the other body's material is known) or "share" (the
 #: fixed share beta_T of the thesis, eq. 2.101)
@@ -190,7 +190,8 @@ class SubgridInterface:
                                       far_end=opts.get("far_end", "impedance"),
                                       picard_tol=opts.get("picard_tol") or PICARD_TOL,
                                       other=self.other if heat == "two-sided" else None,
-                                      pressure_melting=bool(opts.get("pressure_melting", True)))
+                                      pressure_melting=bool(opts.get("pressure_melting", True)),
+                                      time_scheme=opts.get("time_scheme") or "backward_euler")
         self.beta_T = self.vp.beta_T  # 1 with two-sided heat: all the slip heat enters at z = 0 and is conducted
         self.v_far = np.zeros(n)  # the far end's velocity relative to the hydro node (coupled closure)
         self.columns = self.vp

@@ -24,11 +24,19 @@ it (the thesis's eq. 2.101).  Far end: impedance s = rho c_s v, or held at a giv
 or a fixed temperature.
 
 Discretisation: staggered grid, v and e at the nodes z_i (lumped masses rho w_i), s, gamma_e, eps in the
-cells.  Mechanics by backward Euler (L-stable; its dissipation is deposited as heat, so energy is exact), a
-Newton on the node velocities with an exact line search on the step's convex incremental energy; plastic return
-by backward Euler with implicit hardening (scalar convex Newton per cell); heat by backward Euler on the enthalpy
-with a conservative final update; mechanics and heat coupled by Picard iterations.  A column that does not
-converge is redone on sub-steps (dt/2 ... dt/16); one that still fails raises.
+cells.  Time: backward Euler (first order, L-stable; ``time_scheme = "backward_euler"``, the default), or the
+option ``time_scheme = "bdf2"``: variable-step BDF2 (second order, L-stable) of the whole column state, written as
+the backward-Euler kernel over beta dt from the extrapolated state y + c (y - y_old)
+(:meth:`ViscoplasticColumns._bdf2_step`), for imposed slip (k = 0) on columns without melt; the first step of a
+run in sub-steps growing from dt/64; backward Euler where the ratio of steps exceeds 2, a column's last mean
+traction exceeds its new cap, a partner mass is given (k > 0, slide lines) or a column has melt
+(docs/theory/viscoplastic.md, "Time accuracy").  The kernel (:func:`_step_block`):
+mechanics by backward Euler, a Newton on the node velocities with an exact line search on the step's convex
+incremental energy; plastic return by backward Euler with implicit hardening (scalar convex Newton per cell); heat
+by backward Euler on the enthalpy with a conservative final update; mechanics and heat coupled by Picard
+iterations.  The schemes' dissipation (backward Euler's, and what BDF2's extrapolation adds or takes) is deposited
+as heat and booked (rows E_NUMERICAL: kinetic, E_SOFTENING: elastic), so the energy balance is exact.  A column that
+does not converge is redone on sub-steps (dt/2 ... dt/16); one that still fails raises.
 All 2D arrays are (n_nodes or n_cells, n_columns): the column index is innermost; the columns are independent
 and run in parallel blocks where numba has threads (:func:`viscoplastic_step`; cost: docs/theory/viscoplastic.md,
 "Cost").
@@ -68,6 +76,16 @@ OK, NO_CONVERGENCE, BAD_INPUT = 0, 2, 3
 #: a step of an imposed-slip column (k = 0) whose Picard iteration does not converge is redone as two half steps,
 #: recursively down to dt/2**MAX_SPLIT; a sub-step still unconverged there is kept (energy exact) and flagged
 MAX_SPLIT = 4
+#: time integration of the columns (``time_scheme``): "backward_euler" (default, as version 0.4) or "bdf2"
+#: (variable-step BDF2 for imposed slip on solid columns, the first step in sub-steps; docs/theory/viscoplastic.md,
+#: "Time accuracy")
+TIME_SCHEMES = ("bdf2", "backward_euler")
+#: a BDF2 step longer than this ratio times the last one is taken by backward Euler (variable-step BDF2 is
+#: zero-stable below 1 + sqrt 2)
+BDF2_MAX_RATIO = 2.0
+#: the first BDF2 step of a run is taken in START_LEVELS + 1 sub-steps growing from dt/2**START_LEVELS (the jump of
+#: the loading at t = 0 would otherwise leave a start error that decays only as dt**0.6)
+START_LEVELS = 6
 #: default Picard tolerance (K): a step's sweeps stop when no node's temperature (sensible enthalpy / rho c) moves more
 PICARD_TOL = 1e-6
 # parameter vector of the kernel (besides the SCG array)
@@ -172,7 +190,7 @@ def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta,
     """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of one cell
     (dv, dvn = v_c - v_{c+1} at the old and new velocities; the other arguments the cell's values).
 
-    th = 1/2 (inertia: implicit midpoint) or 1 (quasi-static: backward Euler); gd and S are the
+    th = 1: backward Euler, what the kernel uses (1/2 would be the implicit midpoint); gd and S are the
     th-weighted strain rate and stress that enter the momentum balance."""
     gd = ((1.0 - th) * dv + th * dvn) / dzc
     if g <= 0.0:  # molten cell: no solid stress; its stored elastic strain is released as plastic strain
@@ -1039,6 +1057,8 @@ class ViscoplasticColumns:
     ``pressure_melting`` (default True): each column melts at the SCG melt law's T_m(sigma_n)
     (:meth:`~shockfriction.materials.library.Material.melt_law`) and the melt viscosity takes its pressure factor;
     False: the ambient T_F and eta_L (version 0.3).  ``step(..., v_far)``: velocity of a held far end.
+    ``time_scheme``: "backward_euler" (default) or "bdf2" (second order for imposed slip on solid columns; see
+    :meth:`step` and docs/theory/viscoplastic.md, "Time accuracy").
 
     Diagnostics after a step (n_columns,): ``tau``, ``theta_interface`` (K), ``slip_local`` (V - v(0)),
     ``slip_macro`` (|[V]^n|), ``flux_in`` (W/m^2), ``film_thickness`` (m, cells with no strength left),
@@ -1056,7 +1076,7 @@ class ViscoplasticColumns:
                  far_end: str = "impedance", mech_tol: float = 1e-13, heat_tol: float = 1e-11,
                  picard_tol: float = PICARD_TOL, max_picard: int = 100, other=None,
                  pressure_melting: bool = True, other_ratio: float = 1.05,
-                 liquid_activation_volume: float | None = None):
+                 liquid_activation_volume: float | None = None, time_scheme: str = "backward_euler"):
         from shockfriction.friction.subgrid.column import control_weights, extend_grid, make_grid
         from shockfriction.materials.library import get_material
         m = get_material(material) if isinstance(material, str) else material
@@ -1151,6 +1171,20 @@ class ViscoplasticColumns:
             self._a2 = np.zeros(0)
             self.T_other = np.zeros((0, nc))
         self._oth = np.empty((2, self.z_other.size, nc))
+        if time_scheme not in TIME_SCHEMES:
+            raise ValueError(f"time_scheme must be one of {TIME_SCHEMES}, got {time_scheme!r}")
+        self.time_scheme = time_scheme
+        # BDF2 history (docs/theory/viscoplastic.md, "Time accuracy"): the state at the start of the last step, its
+        # per-node mechanical energy, the energy rows it booked, its impulse per area (signed) and its length
+        # (0: none, the next step is backward Euler)
+        self._v_o, self._e_o = np.zeros((nn, nc)), np.zeros((nn, nc))
+        self._ge_o, self._eps_o = np.zeros((nn - 1, nc)), np.zeros((nn - 1, nc))
+        self._T2_o = np.zeros_like(self.T_other)
+        self._mech_o = np.zeros((2, nn, nc))
+        self._rows_o = np.zeros((N_ENERGY, nc))
+        self._imp = np.zeros(nc)
+        self._h = 0.0
+        self._keep = True
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
     @property
@@ -1164,35 +1198,183 @@ class ViscoplasticColumns:
         self.e[...] = self.rho_c * (T - self.T0) + np.where(liquid, self.rho_L, 0.0)
         self.T[...] = T
         self._dt_prev[:] = 0.0  # no prediction across an imposed state
+        self._h = 0.0  # nor a BDF2 step
         self._e_initial = self.mechanical_energy() + self.heat_stored()
 
     def step(self, sigma_n, v_free, slip_prev, k, tau_cap, dt: float, v_far=0.0):
         """Advance all columns by dt; return (tau, v_half) (see the class docstring).  ``v_far``: velocity of the
         held far end relative to the hydro node (the coupled closure; 0 stand-alone).  A column whose solve fails
         even on dt/2**MAX_SPLIT sub-steps raises :class:`~shockfriction.errors.SimulationError` naming it (the
-        columns are then left as they were before the step)."""
+        columns are then left as they were before the step).
+
+        With ``time_scheme = "bdf2"`` (an option; the default is backward Euler) the step is the variable-step BDF2
+        of the whole column state (velocities, elastic strains, plastic strains, enthalpies, the other body's
+        temperatures), written as the backward-Euler kernel over beta dt from the extrapolated state
+        y^ = y + c (y - y_old) (:meth:`_bdf2_step`);
+        tau is then the step's mean traction (its impulse over dt, what the hydro applies).  The first step, a step
+        more than BDF2_MAX_RATIO times the last one, and a step where a column's last mean traction exceeds its new
+        cap ``tau_cap`` (unloading, opening) are backward Euler.  So is every step with a partner mass (k > 0: the
+        columns under a slide line): there BDF2 left a +-5 K step-to-step scatter in Theta(0) of the Ti-6Al-4V
+        pressure-shear example (docs/theory/viscoplastic.md, "Time accuracy"); and every step where a column has melt
+        (a node at or above the solidus enthalpy): there BDF2's extrapolation across the enthalpy's kinks kept the
+        partly molten Couette film from its steady state (tau 3.8 % off after 2.5 us).  BDF2 is used for imposed
+        slip on solid columns (the first BDF2 step after such a stretch again in the start's sub-steps)."""
         nc = self.n_columns
         arr = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float), (nc,)))
                for a in (sigma_n, v_free, slip_prev, k, tau_cap, v_far)]
-        self._advance(*arr, float(dt), 0)
+        dt = float(dt)
+        # BDF2 for imposed slip and solid columns only (see the docstring)
+        imposed = self.time_scheme == "bdf2" and not np.any(arr[3] > 0.0) \
+            and not np.any(self.e.max(axis=0) >= self.rho_c * (self.TF - self.T0))
+        self._keep = imposed  # the step's state is BDF2's history
+        if self.time_scheme == "bdf2" and imposed and self._h <= 0.0:
+            self._start(*arr, dt)
+        else:
+            h = self._h
+            bdf = (self.time_scheme == "bdf2" and imposed and h > 0.0 and dt <= BDF2_MAX_RATIO * h
+                   and bool(np.all(np.abs(self._imp) <= h * arr[4])))
+            self._bdf2_step(*arr, dt, bdf)
+            if not imposed:
+                self._h = 0.0
         bad = np.flatnonzero(self.status != OK)
         if bad.size:
             from shockfriction.errors import SimulationError
             j = int(bad[0])
             what = "non-finite input" if self.status[j] == BAD_INPUT else (
-                f"no convergence on {2 ** MAX_SPLIT} sub-steps of {float(dt):.6g} s")
+                f"no convergence on {2 ** MAX_SPLIT} sub-steps of {dt:.6g} s")
             raise SimulationError(f"viscoplastic column {j}: {what} (sigma_n = {arr[0][j]:.6g} Pa, "
                                   f"free slip {arr[1][j]:.6g} m/s, theta(0) = {self.T[0, j]:.6g} K; "
                                   f"{bad.size} column(s) failed)")
         self.slip_macro[:] = np.abs(0.5 * (self._v_half + arr[2]))
         return self.tau.copy(), self._v_half.copy()
 
-    def _advance(self, F_N, v_free, v_prev, k, tau_cap, v_far, dt: float, level: int) -> None:
+    def _start(self, F_N, v_free, v_prev, k, tau_cap, v_far, dt: float) -> None:
+        """The first BDF2 step (no history): sub-steps dt/2**L, dt/2**L, dt/2**(L-1), ..., dt/2 (L = START_LEVELS;
+        backward Euler, then BDF2 at ratios 1 and 2), so that the loading's jump at t = 0 is resolved; tau is the
+        step's mean traction, the other outputs the last sub-step's (substeps > 1 only where one was split).  With
+        a partner mass (k > 0) each sub-step takes its share of k and the free slip the last one left, as in
+        :meth:`_split`."""
+        subs = [dt / 2**START_LEVELS] + [dt / 2**j for j in range(START_LEVELS, 0, -1)]
+        vf, vp = v_free.copy(), v_prev.copy()
+        imp = np.zeros(self.n_columns)
+        sweeps = np.zeros(self.n_columns, np.int64)
+        split = np.ones(self.n_columns, np.int64)
+        failed = np.zeros(self.n_columns, bool)
+        for n, d in enumerate(subs):
+            self._bdf2_step(F_N, vf, vp, k * (d / dt), tau_cap, v_far, d, n > 0)
+            if np.any(self.status != OK):
+                return
+            imp += np.where(vf >= 0.0, 1.0, -1.0) * self.tau * d
+            sweeps += np.abs(self.iterations)
+            split = np.maximum(split, self.substeps)
+            failed |= self.iterations < 0
+            vp = self._v_half.copy()
+            vf = np.where(k > 0.0, self._v_half, vf)
+        self.tau[:] = np.where(v_free >= 0.0, 1.0, -1.0) * imp / dt
+        self.iterations[:] = np.where(failed, -sweeps, sweeps)
+        self.substeps[:] = split  # > 1 only where a sub-step was split (the start's own sub-steps are the scheme's)
+
+    def _node_mechanical(self) -> np.ndarray:
+        """Kinetic energy of each node (out[0]) and half the elastic energy of each adjacent cell (out[1])
+        (J/m^2, (2, nn, nc))."""
+        rho = self.par[P_RHO] if self.inertia else 0.0
+        out = np.zeros((2,) + self.v.shape)
+        out[0] = (0.5 * rho) * self.weights[:, None] * self.v**2
+        el = 0.25 * self.dz[:, None] * self.Gs * self.ge**2
+        out[1, :-1] += el
+        out[1, 1:] += el
+        return out
+
+    def _temperature(self, e) -> np.ndarray:
+        """T(e) of :func:`temperature_of`, vectorised, with each column's melting temperature TF."""
+        es = self.rho_c * (self.TF - self.T0)
+        return np.where(e <= es, self.T0 + e / self.rho_c,
+                        np.where(e <= es + self.rho_L, self.TF, self.TF + (e - es - self.rho_L) / self.rho_c))
+
+    def _bdf2_step(self, F_N, v_free, v_prev, k, tau_cap, v_far, dt: float, bdf: bool) -> None:
+        """One step of dt: backward Euler (bdf False), or variable-step BDF2 (ratio w = dt/h to the last step h):
+        y' = y^ + beta dt f(y'), y^ = y + c (y - y_old), c = w^2/(1 + 2w), beta = (1 + w)/(1 + 2w), i.e. the
+        backward-Euler kernel over beta dt from y^.  The books stay exact: every energy row takes c times the last
+        step's increment plus the kernel's (the enthalpy is linear in the state, so the heat rows are what was
+        deposited); the mechanical energy that the extrapolation creates beyond c times the last step's change,
+        mu_i = M_i(y^) - M_i(y) - c (M_i(y) - M_i(y_old)) per node, is taken from the node's heat and booked
+        (negative) as numerical heat; the friction work is the hydro's, tau [V] dt with tau = impulse/dt, and the
+        interface heat closes beta_T (friction work - column work), its difference from the rows deposited at
+        node 0 (docs/theory/viscoplastic.md, "Time accuracy").  A failed column is left as it was."""
+        hist = self.time_scheme == "bdf2" and self._keep  # this step's start is BDF2's history
+        y = (self.v.copy(), self.ge.copy(), self.eps.copy(), self.e.copy(), self.T.copy(), self.T_other.copy()) \
+            if bdf or hist else None
+        mech = self._node_mechanical() if hist else None
+        E0 = self.energy.copy()
+        c, beta = 0.0, 1.0
+        vf, kk = v_free, k
+        if bdf:
+            w = dt / self._h
+            c, beta = w * w / (1.0 + 2.0 * w), (1.0 + w) / (1.0 + 2.0 * w)
+            self.v += c * (self.v - self._v_o)
+            self.ge += np.where(self.Gs > 0.0, c * (self.ge - self._ge_o), 0.0)
+            self.eps += c * np.maximum(self.eps - self._eps_o, 0.0)
+            self.e += c * (self.e - self._e_o)
+            self.T[...] = self._temperature(self.e)
+            self.T_other += c * (self.T_other - self._T2_o)
+            mu = self._node_mechanical() - mech - c * (mech - self._mech_o)
+            # the step's impulse I = c I_old + beta dt ts': [V]^{n+1/2} = v_free - k I/dt
+            vf = v_free - k * (c / dt) * self._imp
+            kk = beta * k
+        e_hat = self.e.copy() if bdf else None
+        self._advance(F_N, vf, v_prev, kk, tau_cap, v_far, beta * dt, 0, dt_real=dt, shift=c)
+        bad = self.status != OK
+        if bdf and bad.any():  # leave the failed columns as they were (the kernel left them at y^)
+            for a, b in zip((self.v, self.ge, self.eps, self.e, self.T, self.T_other), y):
+                a[:, bad] = b[:, bad]
+            return
+        sgn_k = np.where(vf >= 0.0, 1.0, -1.0)
+        imp = c * self._imp + beta * dt * sgn_k * self.tau  # signed impulse per area of the step
+        rows = self.energy - E0
+        if bdf:
+            rows += c * self._rows_o
+            fw = imp * 0.5 * (self._v_half + v_prev)
+            hi = self.beta_T * (fw - rows[E_COLUMN_WORK])
+            corr = -mu.sum(axis=0)
+            corr[0] += hi - rows[E_INTERFACE]
+            rows[E_FRICTION], rows[E_INTERFACE] = fw, hi
+            rows[E_NUMERICAL] -= mu[0].sum(axis=0)  # kinetic part; the elastic part, as the kernel's, is softening
+            rows[E_SOFTENING] -= mu[1].sum(axis=0)
+            if self.z_other.size:  # node 0 is the interface of both bodies: its correction raises both (continuity)
+                es = self.rho_c * (self.TF - self.T0)
+                e0 = self.e[0]
+                sensible = (e0 <= es) | (e0 >= es + self.rho_L)  # off the melt plateau: dT/de = 1/rho c
+                dT0 = np.where(sensible, corr[0] / (self.weights[0] * self.rho_c + self._c2[0]), 0.0)
+                corr[0] -= self._c2[0] * dT0
+                self.T_other[0] += dT0
+                rows[E_OTHER] += self._c2[0] * dT0
+            self.e += corr / self.weights[:, None]
+            self.T[...] = self._temperature(self.e)
+            self._de += (e_hat - y[3]) + corr / self.weights[:, None]  # the predictor's history: e' - e
+            self.energy[...] = E0 + rows
+            self.tau[:] = np.where(v_free >= 0.0, 1.0, -1.0) * imp / dt
+            self.flux_in[:] = rows[E_INTERFACE] / dt
+        if bad.any():
+            return
+        if hist:
+            self._v_o, self._ge_o, self._eps_o, self._e_o, _, self._T2_o = y
+            self._mech_o = mech
+            self._rows_o = rows
+            self._imp = imp
+            self._h = dt
+
+    def _advance(self, F_N, v_free, v_prev, k, tau_cap, v_far, dt: float, level: int, dt_real=None,
+                 shift=0.0) -> None:
         """One step of dt (per-column input arrays); a column whose Picard iteration does not converge, or whose
-        solve fails, is redone as two steps of dt/2 (:meth:`_split`), down to dt/2**MAX_SPLIT."""
+        solve fails, is redone as two steps of dt/2 (:meth:`_split`), down to dt/2**MAX_SPLIT.  ``dt_real``, ``shift``
+        (a BDF2 step: the kernel's dt is beta dt_real from e^ = e + shift de): the Picard predictor's step and
+        offset."""
         h1, h2 = self._dt_prev
-        pw = predictor_weights(dt, h1, h2)
-        self._dt_prev[:] = dt, h1
+        step = dt if dt_real is None else dt_real
+        pw = predictor_weights(step, h1, h2)
+        pw[0] -= shift
+        pw[2] -= shift
+        self._dt_prev[:] = step, h1
         if self.pressure_melting:
             melt_temperatures(F_N, self.melt_law, self.TF)
         retry = np.full(self.n_columns, level < MAX_SPLIT)
