@@ -599,22 +599,29 @@ def sync_groups(vx, vy, vx_ref, vy_ref, grp_ptr, grp_nodes):
             vy[n] = vy_ref[n] + dy
 
 
+@njit(inline="always")
+def _advance_node(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre, n):
+    """Node n: v* = v + dt F/m, v kept in (vx_old, vy_old) and, with ``keep_pre``, v* in (vx_pre, vy_pre) (the one
+    body of :func:`advance_velocities` and :func:`border_velocities_parallel`; inlined into both)."""
+    u = vx[n]
+    w = vy[n]
+    vx_old[n] = u
+    vy_old[n] = w
+    a = dt / mass[n]
+    u += a * fx[n]
+    w += a * fy[n]
+    vx[n] = u
+    vy[n] = w
+    if keep_pre:
+        vx_pre[n] = u
+        vy_pre[n] = w
+
+
 def _advance_velocities(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre):
     """v* = v + dt F/m (m: the group mass of the node); v is kept in (vx_old, vy_old) and, with
     ``keep_pre``, v* in (vx_pre, vy_pre) (the velocities before the constraints)."""
     for n in prange(vx.shape[0]):
-        u = vx[n]
-        w = vy[n]
-        vx_old[n] = u
-        vy_old[n] = w
-        a = dt / mass[n]
-        u += a * fx[n]
-        w += a * fy[n]
-        vx[n] = u
-        vy[n] = w
-        if keep_pre:
-            vx_pre[n] = u
-            vy_pre[n] = w
+        _advance_node(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre, n)
 
 
 def _move_nodes(x, y, vx, vy, dt, x_half, y_half):
@@ -1646,18 +1653,7 @@ def border_velocities_parallel(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre,
             n1 = min(n0 + SUM_CHUNK, nn)
             border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, np.searchsorted(bnodes, n0), np.searchsorted(bnodes, n1))
             for n in range(n0, n1):
-                u = vx[n]
-                w = vy[n]
-                vx_old[n] = u
-                vy_old[n] = w
-                a = dt / mass[n]
-                u += a * fx[n]
-                w += a * fy[n]
-                vx[n] = u
-                vy[n] = w
-                if keep_pre:
-                    vx_pre[n] = u
-                    vy_pre[n] = w
+                _advance_node(vx, vy, fx, fy, mass, dt, vx_old, vy_old, vx_pre, vy_pre, keep_pre, n)
 
 
 @njit(cache=True, parallel=True)
