@@ -128,6 +128,14 @@ def temperature_of(e, rho_c, rho_L, T0, T_F):
 
 
 @njit(cache=True)
+def temperatures_of(e, rho_c, rho_L, T0, TF, out):
+    """out[i, j] = T(e[i, j]) of :func:`temperature_of` with column j's melting temperature TF[j]."""
+    for i in range(e.shape[0]):
+        for j in range(e.shape[1]):
+            out[i, j] = temperature_of(e[i, j], rho_c, rho_L, T0, TF[j])[0]
+
+
+@njit(cache=True)
 def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax):
     """Plastic increment x = d gamma_p >= 0 of |s_tr| - (G + eta_vp/dt) x - Y(eps + x/sqrt3) k_fac = 0,
     k_fac = (G/G0)/sqrt(3); returns (x, d|s'|/d|s_tr|).  The left side is convex and decreasing in x,
@@ -1286,10 +1294,10 @@ class ViscoplasticColumns:
         return out
 
     def _temperature(self, e) -> np.ndarray:
-        """T(e) of :func:`temperature_of`, vectorised, with each column's melting temperature TF."""
-        es = self.rho_c * (self.TF - self.T0)
-        return np.where(e <= es, self.T0 + e / self.rho_c,
-                        np.where(e <= es + self.rho_L, self.TF, self.TF + (e - es - self.rho_L) / self.rho_c))
+        """T(e) of :func:`temperature_of` at every node, with each column's melting temperature TF."""
+        out = np.empty_like(e)
+        temperatures_of(e, self.rho_c, self.rho_L, self.T0, self.TF, out)
+        return out
 
     def _bdf2_step(self, F_N, v_free, v_prev, k, tau_cap, v_far, dt: float, bdf: bool) -> None:
         """One step of dt: backward Euler (bdf False), or variable-step BDF2 (ratio w = dt/h to the last step h):
