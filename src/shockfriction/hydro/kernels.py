@@ -514,12 +514,7 @@ def _jump_works_impl(mass_own, vx_old, vy_old, vx, vy, vx_free, vy_free, jx_int,
             vx_pre[n] = px
             vy_pre[n] = py
             if n == nxt:
-                for j in range(bc_ptr[kb], bc_ptr[kb + 1]):
-                    k = bc_cons[j]
-                    d = u * cnx[k] + w * cny[k] - cval[k]
-                    if d != 0.0:
-                        u += -d * cnx[k]
-                        w += -d * cny[k]
+                u, w = _project_node(u, w, bc_ptr[kb], bc_ptr[kb + 1], bc_cons, cnx, cny, cval)
                 vx[n] = u
                 vy[n] = w
                 kb += 1
@@ -597,6 +592,19 @@ def sync_groups(vx, vy, vx_ref, vy_ref, grp_ptr, grp_nodes):
             n = grp_nodes[k]
             vx[n] = vx_ref[n] + dx
             vy[n] = vy_ref[n] + dy
+
+
+@njit(inline="always")
+def _project_node(u, w, j0, j1, bc_cons, cnx, cny, cval):
+    """(u, w) projected onto the node's constraints bc_cons[j0:j1] in turn, n_k . v = cval_k (the one body of the
+    jump pass and the plain node pass; inlined into both)."""
+    for j in range(j0, j1):
+        k = bc_cons[j]
+        d = u * cnx[k] + w * cny[k] - cval[k]
+        if d != 0.0:
+            u += -d * cnx[k]
+            w += -d * cny[k]
+    return u, w
 
 
 @njit(inline="always")
@@ -1140,12 +1148,7 @@ def advance_nodes(vx, vy, fx, fy, mass, dtv, vx_old, vy_old, vx_pre, vy_pre, mas
         if n == nxt:
             vx_pre[n] = u1
             vy_pre[n] = w1
-            for j in range(bc_ptr[kb], bc_ptr[kb + 1]):
-                k = bc_cons[j]
-                d = u1 * cnx[k] + w1 * cny[k] - cval[k]
-                if d != 0.0:
-                    u1 += -d * cnx[k]
-                    w1 += -d * cny[k]
+            u1, w1 = _project_node(u1, w1, bc_ptr[kb], bc_ptr[kb + 1], bc_cons, cnx, cny, cval)
             kb += 1
             nxt = bc_nodes[kb] if kb < nb else -1
         vx[n] = u1
