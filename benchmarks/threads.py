@@ -220,15 +220,16 @@ def scaling(args) -> None:
         from shockfriction.contact import slideline
         from shockfriction.hydro import cycle
 
-        sizes = getattr(slideline, "PARALLEL_MIN_NODES", 0), getattr(cycle, "STAGED_PARALLEL_NODES", 0)
+        sizes = (getattr(slideline, "PARALLEL_MIN_NODES", 0), getattr(cycle, "STAGED_PARALLEL_NODES", 0),
+                 getattr(cycle, "STAGED_PARALLEL_THREADS", 1))
         for law in args.cone_laws:
             # compile outside the timings (the parallel slide-line geometry and node passes too: the coarse shot is
             # smaller than the sizes from which a run takes them)
-            slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES = 1, 0
+            slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES, cycle.STAGED_PARALLEL_THREADS = 1, 0, 1
             for t in counts:
                 use(t)
                 run_simulation(plain(prepare(cone_deck(law, 0.3, 0.7, cell_um=400.0, threads=t, end_us=0.3))))
-            slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES = sizes
+            slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES, cycle.STAGED_PARALLEL_THREADS = sizes
             walls = {t: [] for t in counts}
             info = ""
             for _ in range(args.repeat):

@@ -25,11 +25,12 @@ import shockfriction.contact.slideline as slideline
 import shockfriction.hydro.cycle as cycle
 from shockfriction.hydro.api import prepare
 
-# the slide lines' parallel geometry on every line and the staged cycle's parallel node passes on every mesh (the
-# defaults now; kept here should the sizes from which a run takes them rise above the coarse cone shot's lines of
-# 21 and 76 slave nodes and its 2 k nodes)
+# the slide lines' parallel geometry on every line and the staged cycle's parallel node passes on every mesh and
+# thread count (the size defaults now; kept here should the sizes from which a run takes them rise above the coarse
+# cone shot's lines of 21 and 76 slave nodes and its 2 k nodes)
 slideline.PARALLEL_MIN_NODES = 1
 cycle.STAGED_PARALLEL_NODES = 0
+cycle.STAGED_PARALLEL_THREADS = 2  # and on every thread count above one (a run takes them from 4 threads)
 
 def state_arrays(sim):
     out = {k: v for k, v in vars(sim.state).items() if isinstance(v, np.ndarray)}

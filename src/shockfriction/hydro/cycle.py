@@ -68,6 +68,11 @@ class Interface(Protocol):
 # the parallel path.  On the 16-core device machine the cone shot (32 k nodes) ran 1.44 s with its passes serial
 # (from 131 072 nodes) and 0.89 s with them parallel on 16 threads, 1.28 / 0.86 s on 8 (docs/theory/threads.md)
 STAGED_PARALLEL_NODES = 0
+# ... and from this many threads (with the slide lines' geometry, contact/build.py): on the 2-core development
+# machine (AMD EPYC VM, idle) the 3 us cone shot ran 8.32 s on 2 threads with these passes parallel and 6.77 s with
+# them serial (one thread: 9.37 s): below this count waking the threads for a pass of 32 k nodes costs more than
+# the pass (docs/theory/threads.md, "Few threads")
+STAGED_PARALLEL_THREADS = 4
 
 ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
                   "friction_work", "friction_heat", "column_heat", "contact_work", "contact_heat", "projection_work",
@@ -315,10 +320,12 @@ class Simulation:
     @property
     def _passes_parallel(self) -> bool:
         """The staged cycle's (interfaces, probes) node passes between the force pass and the cell update (free
-        velocities, the jumps' works, position shifts, kinetic energy, viscous heat, positions) in parallel: with
-        the parallel kernels on a mesh of :data:`STAGED_PARALLEL_NODES` nodes or more (0: any).  The serial and
-        parallel passes give the same bytes."""
-        return self.parallel and self.state.n_nodes >= STAGED_PARALLEL_NODES
+        velocities, the jumps' works, position shifts, kinetic energy, viscous heat, positions) and the slide lines'
+        geometry in parallel: with the parallel kernels on :data:`STAGED_PARALLEL_THREADS` threads or more and a
+        mesh of :data:`STAGED_PARALLEL_NODES` nodes or more (0: any).  The serial and parallel passes give the same
+        bytes."""
+        return (self.parallel and self.threads >= STAGED_PARALLEL_THREADS
+                and self.state.n_nodes >= STAGED_PARALLEL_NODES)
 
     @property
     def _plain_serial(self) -> bool:
