@@ -439,6 +439,16 @@ def apply_constraints(vx, vy, vx_old, vy_old, mass_own, cnode, cnx, cny, cval, d
     return work
 
 
+@njit(inline="always")
+def _jump_work(n, mass_own, vx_old, vy_old, jx, jy, jx_prev, jy_prev):
+    """Node n's term m v^{n-1/2}.(J^n + J^{n-1}) of :func:`impulse_work` (twice the work); J^n kept in J_prev (the
+    one body of :func:`impulse_work` and :func:`jump_works`; inlined into both)."""
+    w = mass_own[n] * (vx_old[n] * (jx + jx_prev[n]) + vy_old[n] * (jy + jy_prev[n]))
+    jx_prev[n] = jx
+    jy_prev[n] = jy
+    return w
+
+
 @njit(cache=True, inline="always")
 def _impulse_work_range(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref, jx_prev, jy_prev, carry, cx, cy,
                         k0, k1):
@@ -447,9 +457,7 @@ def _impulse_work_range(nodes, mass_own, vx_old, vy_old, vx, vy, vx_ref, vy_ref,
         n = nodes[k]
         jx = vx[n] - vx_ref[n]
         jy = vy[n] - vy_ref[n]
-        w += mass_own[n] * (vx_old[n] * (jx + jx_prev[n]) + vy_old[n] * (jy + jy_prev[n]))
-        jx_prev[n] = jx
-        jy_prev[n] = jy
+        w += _jump_work(n, mass_own, vx_old, vy_old, jx, jy, jx_prev, jy_prev)
         if carry:
             cx[n] += jx
             cy[n] += jy
@@ -506,9 +514,7 @@ def _jump_works_impl(mass_own, vx_old, vy_old, vx, vy, vx_free, vy_free, jx_int,
             w = vy[n]
             jx = u - vx_free[n]
             jy = w - vy_free[n]
-            wi += mass_own[n] * (vx_old[n] * (jx + jx_int[n]) + vy_old[n] * (jy + jy_int[n]))
-            jx_int[n] = jx
-            jy_int[n] = jy
+            wi += _jump_work(n, mass_own, vx_old, vy_old, jx, jy, jx_int, jy_int)
             px = vx_pre[n] + jx
             py = vy_pre[n] + jy
             vx_pre[n] = px
@@ -519,19 +525,10 @@ def _jump_works_impl(mass_own, vx_old, vy_old, vx, vy, vx_free, vy_free, jx_int,
                 vy[n] = w
                 kb += 1
                 nxt = bc_nodes[kb] if kb < nbc else -1
-            jx = u - px
-            jy = w - py
-            wb += mass_own[n] * (vx_old[n] * (jx + jx_bc[n]) + vy_old[n] * (jy + jy_bc[n]))
-            jx_bc[n] = jx
-            jy_bc[n] = jy
+            wb += _jump_work(n, mass_own, vx_old, vy_old, u - px, w - py, jx_bc, jy_bc)
         parts[0, i] = wi
         parts[1, i] = wb
-    ti = 0.0
-    tb = 0.0
-    for i in range(nch):
-        ti += parts[0, i]
-        tb += parts[1, i]
-    return 0.5 * ti, 0.5 * tb
+    return 0.5 * chunk_total(parts[0], nch), 0.5 * chunk_total(parts[1], nch)
 
 
 jump_works = njit(cache=True, **NO_REFCOUNT)(_jump_works_impl)
