@@ -128,11 +128,12 @@ def temperature_of(e, rho_c, rho_L, T0, T_F):
 
 
 @njit(cache=True)
-def temperatures_of(e, rho_c, rho_L, T0, TF, out):
-    """out[i, j] = T(e[i, j]) of :func:`temperature_of` with column j's melting temperature TF[j]."""
+def temperatures_of(e, rho_c, rho_L, T0, TF, out, slope):
+    """out[i, j], slope[i, j] = T(e[i, j]), dT/de of :func:`temperature_of` with column j's melting temperature
+    TF[j] (dT/de = 0 on the melt plateau)."""
     for i in range(e.shape[0]):
         for j in range(e.shape[1]):
-            out[i, j] = temperature_of(e[i, j], rho_c, rho_L, T0, TF[j])[0]
+            out[i, j], slope[i, j], _ = temperature_of(e[i, j], rho_c, rho_L, T0, TF[j])
 
 
 @njit(cache=True)
@@ -1293,11 +1294,11 @@ class ViscoplasticColumns:
         out[1, 1:] += el
         return out
 
-    def _temperature(self, e) -> np.ndarray:
-        """T(e) of :func:`temperature_of` at every node, with each column's melting temperature TF."""
-        out = np.empty_like(e)
-        temperatures_of(e, self.rho_c, self.rho_L, self.T0, self.TF, out)
-        return out
+    def _temperature(self, e) -> tuple[np.ndarray, np.ndarray]:
+        """T(e) and dT/de of :func:`temperature_of` at every node, with each column's melting temperature TF."""
+        out, slope = np.empty_like(e), np.empty_like(e)
+        temperatures_of(e, self.rho_c, self.rho_L, self.T0, self.TF, out, slope)
+        return out, slope
 
     def _bdf2_step(self, F_N, v_free, v_prev, k, tau_cap, v_far, dt: float, bdf: bool) -> None:
         """One step of dt: backward Euler (bdf False), or variable-step BDF2 (ratio w = dt/h to the last step h):
@@ -1323,7 +1324,7 @@ class ViscoplasticColumns:
             self.ge += np.where(self.Gs > 0.0, c * (self.ge - self._ge_o), 0.0)
             self.eps += c * np.maximum(self.eps - self._eps_o, 0.0)
             self.e += c * (self.e - self._e_o)
-            self.T[...] = self._temperature(self.e)
+            self.T[...] = self._temperature(self.e)[0]
             self.T_other += c * (self.T_other - self._T2_o)
             mu = self._node_mechanical() - mech - c * (mech - self._mech_o)
             # the step's impulse I = c I_old + beta dt ts': [V]^{n+1/2} = v_free - k I/dt
@@ -1349,15 +1350,13 @@ class ViscoplasticColumns:
             rows[E_NUMERICAL] -= mu[0].sum(axis=0)  # kinetic part; the elastic part, as the kernel's, is softening
             rows[E_SOFTENING] -= mu[1].sum(axis=0)
             if self.z_other.size:  # node 0 is the interface of both bodies: its correction raises both (continuity)
-                es = self.rho_c * (self.TF - self.T0)
-                e0 = self.e[0]
-                sensible = (e0 <= es) | (e0 >= es + self.rho_L)  # off the melt plateau: dT/de = 1/rho c
+                sensible = self._temperature(self.e[:1])[1][0] > 0.0  # off the melt plateau: dT/de = 1/rho c
                 dT0 = np.where(sensible, corr[0] / (self.weights[0] * self.rho_c + self._c2[0]), 0.0)
                 corr[0] -= self._c2[0] * dT0
                 self.T_other[0] += dT0
                 rows[E_OTHER] += self._c2[0] * dT0
             self.e += corr / self.weights[:, None]
-            self.T[...] = self._temperature(self.e)
+            self.T[...] = self._temperature(self.e)[0]
             self._de += (e_hat - y[3]) + corr / self.weights[:, None]  # the predictor's history: e' - e
             self.energy[...] = E0 + rows
             self.tau[:] = np.where(v_free >= 0.0, 1.0, -1.0) * imp / dt
