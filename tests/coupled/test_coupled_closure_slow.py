@@ -2,10 +2,10 @@
 
 The cone shot (100 um cells, mu0 = 0.3, f = 0.7, viscoplastic columns, 3 us), h = 20 um / 500 cells against
 40 um / 1000 cells (the same dz): friction work, the columns' plastic work and the mean |slip| must change by
-less than 2 %.  Not met yet: with the default ``shear`` closure +25 % / +99 % / +13 % (docs/theory/viscoplastic.md,
-"Coupled closure").  The test is a strict xfail so that it turns into a failure (XPASS) the day a closure meets
-the item, and the xfail is then removed.  About 7-9 minutes on one core (two runs of 2.5 and 5 minutes idle;
-531 s beside the CI run)."""
+less than 2 % (the issue's bound).  With the default ``excess`` closure (docs/theory/viscoplastic.md, "Coupled
+closure: the excess layer") measured +8.1e-8 (friction work), +8.0e-6 (plastic work), +1.7e-7 (mean slip); the
+tolerances below sit near these (the ``shear`` closure of version 0.4's first draft: +25 % / +99 % / +13 %).  About 3-4 minutes on one core (two runs of ~70 and ~120 s
+idle)."""
 
 import numpy as np
 import pytest
@@ -15,6 +15,8 @@ from shockfriction.hydro.api import prepare, run_simulation
 from shockfriction.io.interface import read_interface
 
 TOL = 0.02  # the issue's bound on the relative change from h = 20 to 40 um
+# near the measured changes (a regression of the closure or of its thermal far field trips them)
+NEAR = {"friction_work": 5e-7, "plastic_work": 5e-5, "mean_slip": 1e-6}
 
 
 def _cone(h_um: float, tmp_path):
@@ -31,11 +33,9 @@ def _cone(h_um: float, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason="issue 25 item 1 open: the coupled columns depend on their thickness "
-                                       "(+25 % friction work from h = 20 to 40 um with the shear closure)")
 def test_coupled_viscoplastic_columns_do_not_depend_on_their_thickness(tmp_path):
     thin, thick = _cone(20.0, tmp_path), _cone(40.0, tmp_path)
     change = {k: thick[k] / thin[k] - 1.0 for k in thin}
     print(f"h = 20 um: {thin}\nh = 40 um: {thick}\nchange: {change}")
     for key, rel in change.items():
-        assert abs(rel) < TOL, f"{key}: {thin[key]:.6g} -> {thick[key]:.6g} ({100 * rel:+.1f} %)"
+        assert abs(rel) < min(TOL, NEAR[key]), f"{key}: {thin[key]:.6g} -> {thick[key]:.6g} ({100 * rel:+.2e} %)"

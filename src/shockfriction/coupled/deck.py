@@ -17,8 +17,9 @@ with::
                  profile_interval = "100 ns",  # default: 5 nodes, every 10th record
                  picard_tol = "1e-6 K",     # subgrid-viscoplastic only: its Picard tolerance (default 1e-6 K)
                  pressure_melting = true,   # subgrid-viscoplastic only: T_m(sigma_n) by the SCG melt law
-                 closure = "shear" }        # subgrid-viscoplastic only: far end driven by the hydro's shear
-                                            # ("shear", default) or held at the node ("held", version 0.3)
+                 closure = "excess" }       # subgrid-viscoplastic only: the layer adds only its flow in excess
+                                            # of the body's ("excess", default); "shear", "held": far end driven
+                                            # or held (thickness-dependent, kept for comparison)
 
 With ``law = "subgrid-viscoplastic"`` and no ``heat_share`` the columns share the heat with the other body by
 conduction (a thermal column in it, two-sided heat); ``heat_share`` keeps the fixed share of the thesis.
@@ -59,10 +60,12 @@ class SubgridFrictionOptions(BaseModel):
     pressure_melting: bool = Field(
         True, description="subgrid-viscoplastic only: melting temperature T_m(sigma_n) by the SCG melt law "
                           "and the melt viscosity's pressure factor (false: the ambient T_F and eta_L)")
-    closure: Literal["shear", "held"] = Field(
-        "shear", description="subgrid-viscoplastic only: the column's far end moves with the hydro's shear of "
-                             "the layer ('shear': the column adds only what departs from its cell's homogeneous "
-                             "shear) or is held at the node ('held': version 0.3, depends on the thickness)")
+    closure: Literal["excess", "shear", "held"] = Field(
+        "excess", description="subgrid-viscoplastic only: how the column under a node is closed against the hydro "
+                              "('excess': a quasi-static layer that slips only by its flow in excess of the "
+                              "unheated body's, continued thermally to 1 mm, independent of the thickness; "
+                              "'shear': far end driven by the hydro's shear of the layer; 'held': far end held at "
+                              "the node, version 0.3; the last two depend on the thickness)")
 
     @model_validator(mode="after")
     def _subgrid_keys(self):

@@ -50,12 +50,17 @@ ENERGY_KEYS = ("friction_work_columns", "heat_columns", "heat_other", "cold_work
                "melt_energy", "columns_mechanical", "layer_work")
 # which term of tau = min(mu0 F_N, tau_stick, sub-grid branch) governs a friction node-step (in contact, free slip)
 BRANCHES = ("coulomb_cap", "sticking_cap", "subgrid")
-# the viscoplastic column under a hydro node: its far end is held (the hydro carries the body and its shear waves;
-# an impedance there would add the body's elastic compliance tau/(rho c_s) a second time), at the velocity the
-# hydro's own shear of the layer gives it at depth h ("shear" closure) or at the node's ("held", version 0.3)
-# (docs/theory/viscoplastic.md, "Coupled closure")
+# the viscoplastic column under a hydro node (docs/theory/viscoplastic.md, "Coupled closure"): by default
+# ("excess") a quasi-static layer that slips only by its flow in excess of the unheated body's (the hydro carries the
+# body, its shear waves and its homogeneous flow); the options "shear" and "held" hold its far end at the velocity
+# the hydro's shear of the layer gives it at depth h, or at the node's (version 0.3): both depend on the thickness
 COUPLED_VISCOPLASTIC = {"far_end": "held"}
-CLOSURES = ("shear", "held")
+# the "excess" closure's thermal far field: the column is continued below its resolved layer by geometric cells
+# (ratio EXCESS_DEPTH_RATIO) down to EXCESS_DEPTH, so that its heat does not feel the far end (4 sqrt(alpha t) for
+# an aluminium alloy is 0.28 mm at 100 us): the answer then does not depend on the thickness
+EXCESS_DEPTH = 1e-3
+EXCESS_DEPTH_RATIO = 1.1
+CLOSURES = ("excess", "shear", "held")
 
 
 class SubgridFriction:
@@ -71,7 +76,7 @@ class SubgridFriction:
                  thickness: float = 20e-6, cells: int = 500, grading: float = 1.0, taylor_quinney: float = 0.9,
                  T0: float = 300.0, bilateral: bool = False, profile_nodes=None, profile_interval: float = 0.0,
                  modelled_body: str = "slave", trace: bool = False, picard_tol: float | None = None,
-                 pressure_melting: bool = True, closure: str = "shear", state=None):
+                 pressure_melting: bool = True, closure: str = "excess", state=None):
         self.name = name
         self.model = model
         self.modelled_body = modelled_body
@@ -81,7 +86,11 @@ class SubgridFriction:
         self._state = state  # the hydro state (positions, connectivity) that the "shear" closure reads
         self.columns = SubgridInterface(n_nodes, material, other, thickness=thickness, n_cells=cells,
                                         grading=grading, model=model, mu0=mu0, f=f, taylor_quinney=taylor_quinney,
-                                        T0=T0, viscoplastic={**COUPLED_VISCOPLASTIC, "picard_tol": picard_tol,
+                                        T0=T0, viscoplastic={**COUPLED_VISCOPLASTIC,
+                                                             **({"far_end": "excess", "depth": EXCESS_DEPTH,
+                                                                 "depth_ratio": EXCESS_DEPTH_RATIO}
+                                                                if closure == "excess" else {}),
+                                                             "picard_tol": picard_tol,
                                                              "pressure_melting": pressure_melting}
                                         if model == "viscoplastic" else None)
         self._vp_before = np.zeros((6, n_nodes))  # viscoplastic column energies before a step (see _vp_books)

@@ -21,7 +21,12 @@ The slip heat |s(0)| (V - v(0)) enters at z = 0: all of it, the other body takin
 its own thermal column (two-sided heat, continuity of temperature and flux at z = 0), or the fixed share beta_T of
 it (the thesis's eq. 2.101).  Far end: impedance s = rho c_s v, or held at a given velocity (``far_end = "held"``:
 0 stand-alone, the hydro's shear of the layer under a slide line), or v = 0 (quasi-static); thermally insulated,
-or a fixed temperature.
+or a fixed temperature.  Under a slide line (``far_end = "excess"``, the coupled closure) the column is a
+quasi-static layer at the uniform stress s = |s(0)| that slips by its flow in excess of the reference layer (the
+unheated, unhardened body, shear yield k_ref)::
+
+    W(s) = sum_c dz_c r_c,  r_c = min((s - k_c)^+, (k_ref - k_c)^+)/eta_vp (solid),  s/eta_c (molten)
+    [V] = [V*] - k s = W(s) + slide of the surface (> 0 only at the cap)
 
 Discretisation: staggered grid, v and e at the nodes z_i (lumped masses rho w_i), s, gamma_e, eps in the
 cells.  Time: backward Euler (first order, L-stable; ``time_scheme = "backward_euler"``, the default), or the
@@ -90,8 +95,16 @@ START_LEVELS = 6
 PICARD_TOL = 1e-6
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
- P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R, P_MAX_NEWTON) = range(19)
-N_PAR = 19
+ P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R, P_MAX_NEWTON, P_EXCESS) = range(20)
+N_PAR = 20
+#: far-end conditions: "impedance" rho c_s (stand-alone), "held" (at a given velocity), "excess" (a quasi-static layer
+#: whose slip is its flow in excess of the reference layer's: the coupled closure, docs/theory/viscoplastic.md)
+FAR_ENDS = ("impedance", "held", "excess")
+#: smallest overstress viscosity (Pa s) of the excess layer's rates (far_end = "excess"): eta_vp = 0, the
+#: rate-independent limit, is taken at this value (a layer slip of 1 m/s over 1 um then needs 1 Pa of overstress)
+EXCESS_MIN_ETA = 1e-6
+#: iterations of the excess layer's scalar solve (safeguarded Newton on a piecewise-linear function)
+EXCESS_MAX_ITER = 200
 #: iterations of the mechanics Newton in one Picard sweep (a column that needs more fails its step, which is then
 #: redone in sub-steps)
 MAX_NEWTON = 200
@@ -254,13 +267,95 @@ def _slope(j, vt, v, d, S, mass, dt, stick, k, v_free, ts, impedance, Zc):
     return g
 
 
+@njit(cache=True)
+def _hardening_slope(yh, kf, eps, beta, n, Ymax):
+    """d k/d gamma_p of a cell at the start of the step: k = Y(eps) kf, eps = gamma_p/sqrt3, dY/d eps =
+    n beta Y/(1 + beta eps) below Ymax, 0 at it."""
+    if yh >= Ymax:
+        return 0.0
+    return kf * n * beta * yh / ((1.0 + beta * eps) * SQRT3)
+
+
+@njit(cache=True)
+def _excess_increment(s, kc, hc, kref, href, eta_dt):
+    """Plastic increment of a solid cell in excess of the reference layer's at the stress s:
+    max(x_c - x_ref, 0), x = (s - k)^+/(eta_vp/dt + dk/d gamma) (the overstress law with the hardening linearised
+    over the step: the first iterate of :func:`return_map` with G -> 0); returns (increment, d increment/ds)."""
+    xc = (s - kc) / (eta_dt + hc) if s > kc else 0.0
+    xr = (s - kref) / (eta_dt + href) if s > kref else 0.0
+    if xc <= xr:
+        return 0.0, 0.0
+    d = 1.0 / (eta_dt + hc)
+    if s > kref:
+        d -= 1.0 / (eta_dt + href)
+    return xc - xr, d
+
+
+@njit(cache=True)
+def _excess_rate(s, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M):
+    """Layer slip rate W(s) = sum_c dz_c r_c(s) of column j at the uniform stress s >= 0 (far_end = "excess") and
+    dW/ds: a solid cell flows in excess of the reference layer (the body at T0, hardened by its homogeneous flow:
+    yield kref, hardening slope href) by :func:`_excess_increment` over dt; a molten or mushy cell (G = 0) at
+    r_c = s/eta_c."""
+    W = 0.0
+    dW = 0.0
+    for c in range(M):
+        if G[c, j] > 0.0:
+            kc = yh[c, j] * kf[c, j]
+            if s > kc:
+                hc = _hardening_slope(yh[c, j], kf[c, j], eps[c, j], beta, n, Ymax)
+                x, dx = _excess_increment(s, kc, hc, kref, href, eta_dt)
+                W += dz[c] * x / dt
+                dW += dz[c] * dx / dt
+        else:
+            W += dz[c] * s / eta[c, j]
+            dW += dz[c] / eta[c, j]
+    return W, dW
+
+
+@njit(cache=True)
+def _excess_solve(j, V, kj, cap, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M):
+    """Uniform stress s in [0, cap] of the excess layer of column j: the root of g(s) = V - k s - W(s) (V = |[V*]|,
+    k the partner compliance), or s = cap where g(cap) >= 0 (the surface slides at the cap and takes the rest,
+    g(cap), of the slip).  g(0) = V > 0 and g is continuous and piecewise linear: a safeguarded Newton (exact on
+    each linear piece, bisection where a step leaves the bracket).  Returns (s, W(s), ok)."""
+    if V <= 0.0 or cap <= 0.0:
+        return 0.0, 0.0, True
+    Wc, _ = _excess_rate(cap, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M)
+    if V - kj * cap - Wc >= 0.0:
+        return cap, Wc, True
+    lo = 0.0
+    hi = cap
+    s = 0.0
+    tol = 1e-14 * (V + 1e-6)
+    W = 0.0
+    for _ in range(EXCESS_MAX_ITER):
+        W, dW = _excess_rate(s, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M)
+        g = V - kj * s - W
+        if abs(g) <= tol:
+            return s, W, True
+        if g > 0.0:
+            lo = s
+        else:
+            hi = s
+        d = kj + dW
+        sn = s + g / d if d > 0.0 else 0.5 * (lo + hi)
+        if not (lo < sn < hi):
+            sn = 0.5 * (lo + hi)
+        if hi - lo <= 1e-15 * cap:
+            W, _ = _excess_rate(hi, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M)
+            return hi, W, True  # g is continuous: the root is located to the resolution of s
+        s = sn
+    return s, W, False
+
+
 #: columns from which :func:`viscoplastic_step` runs in parallel blocks when numba has more than one thread
 PARALLEL_MIN_COLUMNS = 16
 
 
 def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                       tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                      TF, v_far, T2, c2, a2, oth):
+                      TF, v_far, T2, c2, a2, oth, eps_ref):
     """Advance every column by dt (:func:`_step_block` on all columns).  The columns are independent (every
     output, iteration count and branch is per column): with more than one numba thread and at least
     ``PARALLEL_MIN_COLUMNS`` columns they run in parallel blocks of consecutive columns
@@ -270,31 +365,31 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     if threads > 1 and nc >= PARALLEL_MIN_COLUMNS:
         _step_parallel(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                        tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                       TF, v_far, T2, c2, a2, oth, min(threads * 4, nc))
+                       TF, v_far, T2, c2, a2, oth, eps_ref, min(threads * 4, nc))
         return 0
     return _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                        tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                       TF, v_far, T2, c2, a2, oth, np.uint64(0), np.uint64(nc))
+                       TF, v_far, T2, c2, a2, oth, eps_ref, np.uint64(0), np.uint64(nc))
 
 
 @njit(cache=True, parallel=True)
 def _step_parallel(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                    tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                   TF, v_far, T2, c2, a2, oth, nblocks):
+                   TF, v_far, T2, c2, a2, oth, eps_ref, nblocks):
     """:func:`_step_block` over ``nblocks`` blocks of consecutive columns in parallel (the scratch ``work`` and
     ``oth`` are per column: the blocks touch disjoint columns of every array)."""
     nc = v.shape[1]
     for b in prange(nblocks):
         _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                     tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                    TF, v_far, T2, c2, a2, oth, np.uint64(b * nc // nblocks),
+                    TF, v_far, T2, c2, a2, oth, eps_ref, np.uint64(b * nc // nblocks),
                     np.uint64((b + 1) * nc // nblocks))
 
 
 @njit(cache=True)
 def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                 tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                TF, v_far, T2, c2, a2, oth, j0, j1):
+                TF, v_far, T2, c2, a2, oth, eps_ref, j0, j1):
     """Advance the columns j0 <= j < j1 by dt (j0, j1 unsigned: the column index of every loop is then known to be
     non-negative, so numba indexes without the negative-index wrap, which costs 15-20 % of the step with signed
     bounds) (state arrays updated in place; see the module docstring).
@@ -317,6 +412,8 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
     T2 (n2, nc), c2 (n2,), a2 (n2 - 1,): the other body's thermal column (two-sided heat; n2 = 0: none, the
     fixed share beta_T): temperatures (node 0 the interface, continuous with T[0]), heat capacities per area
     (J/m^2/K) and conductances kappa2/dy (W/m^2/K); oth (2, n2, nc) scratch.
+    eps_ref (nc,): equivalent plastic strain of the reference layer (far_end = "excess": the body's homogeneous
+    flow, which every solid cell of the layer shares; updated in place; unused otherwise).
     """
     nn, nc = v.shape
     M = nn - 1
@@ -325,6 +422,7 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
     eta_vp, eta_F, E_R = par[P_ETA_VP], par[P_ETA_F], par[P_E_R]
     beta_T, beta_Q, f = par[P_BETA_T], par[P_BETA_Q], par[P_F]
     inertia = par[P_INERTIA] > 0.5
+    excess = par[P_EXCESS] > 0.5  # far_end = "excess": quasi-static layer, slip in excess of the reference layer
     held = math.isinf(par[P_Z])  # far end held (at v_far) also with inertia (far_end = "held")
     imped = inertia and not held  # impedance far end
     th = 1.0  # backward Euler (L-stable: no ringing at c_s dt/dz >> 1); its dissipation is turned into heat
@@ -338,6 +436,18 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
     Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
     tresca = f * Ymax / SQRT3
+    eta_x = max(eta_vp, EXCESS_MIN_ETA)
+    wlay = np.zeros(nc)  # excess layer: its slip rate W (magnitude)
+    # excess layer: the reference layer (the body at T0 and the column's pressure, hardened by its own homogeneous
+    # flow eps_ref, frozen over the step): its shear yield kref = yref kfr
+    kref = np.zeros(nc)
+    href = np.zeros(nc)
+    if excess:
+        for j in range(j0, j1):
+            yref = min(Ymax, Y0 * (1.0 + beta_h * eps_ref[j]) ** n_h)
+            kfr = scg_shear_ratio(F_N[j], T0, g_p, h_p, xi, TF[j]) / SQRT3
+            kref[j] = yref * kfr
+            href[j] = _hardening_slope(yref, kfr, eps_ref[j], beta_h, n_h, Ymax)
     mass = np.empty(nn)
     for i in range(nn):
         mass[i] = rho * w[i] if inertia else 0.0
@@ -456,8 +566,13 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
         # switch at z = 0
         for j in range(j0, j1):
             nsw[j] = 0
+            if excess and act[j]:  # the layer's uniform stress from a scalar solve (no velocity unknowns)
+                s_x, wlay[j], ok_x = _excess_solve(j, abs(v_free[j]), k[j], cap[j], G, yh, kf, eta, eps, dz,
+                                                   kref[j], href[j], eta_x / dt, dt, beta_h, n_h, Ymax, M)
+                ts[j] = sgn[j] * s_x
+                act[j] = not ok_x  # an unconverged solve is flagged below
         fresh = False  # S[1:nn] and Kc hold the cell states at vn
-        for it in range(max_newton):
+        for it in range(0 if excess else max_newton):
             if not fresh:
                 _cell_pass(v, vn, act, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S,
                            Kc, npl, j0, j1)
@@ -613,7 +728,36 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
         for i in range(nn):
             for j in range(j0, j1):
                 src[i, j] = 0.0
-        for c in range(M):
+        if excess:  # the layer's excess flow at the stress ts: plastic increments, film rates, the velocity profile
+            for j in range(j0, j1):
+                if act[j]:
+                    vn[M, j] = 0.0
+            for c in range(M - 1, -1, -1):
+                for j in range(j0, j1):
+                    if not act[j]:
+                        continue
+                    s_x = abs(ts[j])
+                    r = 0.0
+                    if G[c, j] > 0.0:
+                        kc = yh[c, j] * kf[c, j]
+                        if s_x > kc:
+                            hc = _hardening_slope(yh[c, j], kf[c, j], eps[c, j], beta_h, n_h, Ymax)
+                            x, _ = _excess_increment(s_x, kc, hc, kref[j], href[j], eta_x / dt)
+                            r = x / dt
+                        dgp[c, j] = sgn[j] * r * dt
+                        gdm[c, j] = 0.0
+                        h = beta_Q * s_x * r * dt * dz[c]
+                    else:
+                        r = s_x / eta[c, j]
+                        dgp[c, j] = 0.0
+                        gdm[c, j] = sgn[j] * r
+                        h = eta[c, j] * r * r * dt * dz[c]
+                    snew[c, j] = 0.0
+                    S[c + 1, j] = ts[j]
+                    vn[c, j] = vn[c + 1, j] + sgn[j] * r * dz[c]
+                    src[c, j] += 0.5 * h
+                    src[c + 1, j] += 0.5 * h
+        for c in range(M if not excess else 0):
             for j in range(j0, j1):
                 if act[j]:
                     gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vn[c, j] - vn[c + 1, j], dz[c], dt, G[c, j],
@@ -644,6 +788,10 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
                 vh = v_free[j] - ts[j] * k[j]
                 vm = 0.5 * (vh + v_prev[j])
                 v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
+                if excess:  # the friction work ts [V]^n (the hydro's slip at t^n, as the other models book it):
+                    # the layer takes ts W, the surface the rest (a slide at the cap; below it, where [V]^{n+1/2} = W,
+                    # ts ([V]^{n-1/2} - [V]^{n+1/2})/2, which telescopes over the steps)
+                    v0m = sgn[j] * wlay[j]
                 v_half[j] = vh
                 v_local[j] = sgn[j] * (vm - v0m)
                 tau[j] = sgn[j] * ts[j]  # < 0 only while the surface overtakes the slider (rebound)
@@ -743,12 +891,12 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
         vh = v_half[j]
         energy[E_FRICTION, j] += ts[j] * 0.5 * (vh + v_prev[j]) * dt
         energy[E_INTERFACE, j] += q_in[j] * dt
-        v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
+        v0m = sgn[j] * wlay[j] if excess else (1.0 - th) * v[0, j] + th * vn[0, j]
         energy[E_COLUMN_WORK, j] += ts[j] * v0m * dt
         if inertia and not held:
             vmm = (1.0 - th) * v[M, j] + th * vn[M, j]
             energy[E_RADIATED, j] += Zc[j] * vmm * vmm * dt
-        elif vn[M, j] != 0.0:  # held end moving with the hydro's shear: its reaction's work leaves through z = h
+        elif vn[M, j] != 0.0 and not excess:  # held end moving with the hydro's shear: its reaction's work leaves
             S_far = S[M, j] - mass[M] * (vn[M, j] - v[M, j]) / dt
             energy[E_RADIATED, j] += S_far * vn[M, j] * dt
         energy[E_OTHER, j] += q2fin[j]
@@ -758,12 +906,17 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
                 T2[kk, j] = oth[0, kk, j] + oth[1, kk, j] * ts2[j]
         energy[E_HEAT_OUT, j] += hfin[j]
         thick = 0.0
+        dref = 0.0  # excess layer: the reference's plastic strain increment at the step's stress, which every solid
+        # cell shares (the same linearised hardening as the cells' increments)
+        if excess and abs(ts[j]) > kref[j]:
+            dref = (abs(ts[j]) - kref[j]) / (eta_x / dt + href[j]) / SQRT3
+            eps_ref[j] += dref
         for i in range(nn):
             dv = vn[i, j] - v[i, j]
             energy[E_NUMERICAL, j] += 0.5 * mass[i] * dv * dv
         for c in range(M):
             sn = snew[c, j]
-            ssol = (1.0 - th) * sold[c, j] + th * sn
+            ssol = ts[j] if excess else (1.0 - th) * sold[c, j] + th * sn
             dg = dgp[c, j]
             gd = gdm[c, j]
             ge_new = sn / G[c, j] if G[c, j] > 0.0 else 0.0
@@ -772,7 +925,7 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
             energy[E_VISCOUS, j] += eta[c, j] * gd * gd * dt * dz[c]
             energy[E_SOFTENING, j] += ssol * (ge_new - ge[c, j]) * dz[c] - del_el
             if G[c, j] > 0.0:
-                eps[c, j] = eps[c, j] + abs(dg) / SQRT3
+                eps[c, j] = eps[c, j] + abs(dg) / SQRT3 + dref
             elif phc[c, j] >= 1.0:
                 eps[c, j] = 0.0  # a fully molten cell forgets its hardening
             ge[c, j] = ge_new
@@ -1126,9 +1279,15 @@ class ViscoplasticColumns:
         self.par[[P_RHO, P_C, P_KAPPA, P_L, P_T0]] = rho, m.heat_capacity, m.conductivity, L, T0
         self.par[[P_ETA_VP, P_ETA_F, P_E_R]] = self.eta_vp, eta_F, E_R
         self.par[[P_BETA_T, P_BETA_Q, P_F]] = beta_T, taylor_quinney, (-1.0 if f is None else float(f))
-        if far_end not in ("impedance", "held"):
-            raise ValueError(f"far_end must be 'impedance' or 'held', got {far_end!r}")
-        self.par[P_Z] = rho * m.shear_wave_speed if far_end == "impedance" else math.inf
+        if far_end not in FAR_ENDS:
+            raise ValueError(f"far_end must be one of {FAR_ENDS}, got {far_end!r}")
+        if far_end == "excess":  # a quasi-static layer (its inertia is the hydro cells')
+            inertia = False
+            self.inertia = False
+        self.par[P_Z] = rho * m.shear_wave_speed if far_end == "impedance" else (
+            math.inf if far_end == "held" else 0.0)
+        self.par[P_EXCESS] = 1.0 if far_end == "excess" else 0.0
+        self.far_end = far_end
         self.par[P_INERTIA] = 1.0 if inertia else 0.0
         self.par[P_T_FAR] = math.nan if far_temperature is None else float(far_temperature)
         V_act = pick(liquid_activation_volume, "liquid_viscosity_activation_volume", 0.0)
@@ -1146,6 +1305,7 @@ class ViscoplasticColumns:
         self.ge = np.zeros((nn - 1, nc))
         self.Gs = np.zeros((nn - 1, nc))
         self.eps = np.zeros((nn - 1, nc))
+        self.eps_ref = np.zeros(nc)  # the reference layer's plastic strain (far_end = "excess")
         self.e = np.zeros((nn, nc))
         self.T = np.full((nn, nc), self.T0)
         self.energy = np.zeros((N_ENERGY, nc))
@@ -1389,7 +1549,7 @@ class ViscoplasticColumns:
                           F_N, v_free, v_prev, k, tau_cap, self.scg, self.par, dt, self.max_picard, self.tau,
                           self._v_half, self.slip_local, self.flux_in, self.film_thickness, self.iterations,
                           self.status, self.energy, self._de, self._de2, pw, self._work, retry,
-                          self.TF, v_far, self.T_other, self._c2, self._a2, self._oth)
+                          self.TF, v_far, self.T_other, self._c2, self._a2, self._oth, self.eps_ref)
         self.substeps[:] = 1
         redo = np.flatnonzero(retry & (((self.iterations < 0) & (self.status == OK))
                                        | (self.status == NO_CONVERGENCE)))
@@ -1410,6 +1570,7 @@ class ViscoplasticColumns:
         for name in ("tau", "slip_local", "slip_macro", "flux_in", "film_thickness", "_v_half"):
             setattr(sub, name, np.zeros(n))
         sub.TF = self.TF[cols].copy()
+        sub.eps_ref = self.eps_ref[cols].copy()
         sub.iterations, sub.status, sub.substeps = (np.zeros(n, np.int64) for _ in range(3))
         sub._dt_prev = np.array(dt_prev, float)
         sub._work = np.empty((N_WORK, self.z.size + 1, n))
@@ -1437,6 +1598,7 @@ class ViscoplasticColumns:
             keep = cols[ok]
             for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "T_other"):
                 getattr(self, name)[:, keep] = getattr(sub, name)[:, ok]
+            self.eps_ref[keep] = sub.eps_ref[ok]
             self._de[:, keep] = (sub.e - e_start)[:, ok]  # the predictor's history: the change over the whole dt
             self._de2[:, keep] = de_prev[:, ok]
         self.tau[cols], self.slip_local[cols], self.flux_in[cols] = tau, slip, flux
