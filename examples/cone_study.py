@@ -1,6 +1,6 @@
 """Parametric study of the sub-grid friction on the cone-in-cylinder shot (thesis §7.3.4, §8.3.3), judged honestly.
 
-    python examples/cone_study.py [--cell-um 100] [--workers 2] [--models thermoelastic thermoelastoplastic]
+    python examples/cone_study.py [--cell-um 100] [--workers 2] [--models thermoelastic thermoelastoplastic viscoplastic]
                                   [--out out/cone_study]
 
 Runs, on the deck of ``cone_deck`` of examples/cone_shot.py:
@@ -46,7 +46,7 @@ import numpy as np
 from shockfriction.friction.subgrid.interface import MELT_MARGIN
 
 # the sub-grid models of the study, in one place (the first is the reference, run over the full mu0 x f grid)
-MODELS = ["thermoelastic", "thermoelastoplastic"]
+MODELS = ["thermoelastic", "thermoelastoplastic", "viscoplastic"]
 TAGS = {"thermoelastic": "te", "thermoelastoplastic": "tep", "viscoplastic": "vp"}
 MU0 = (0.02, 0.05, 0.2, 0.3)
 F = (0.3, 0.5, 0.7, 0.9)
