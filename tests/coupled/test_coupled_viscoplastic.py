@@ -27,10 +27,10 @@ def test_viscoplastic_law_runs_in_the_coupled_strip(coupled_decks, tmp_path):
 def test_pressure_shear_ti6al4v_reduces_to_the_thermoelastic_model(tmp_path):
     """The Ti-6Al-4V pressure-shear example (steel flyer, 101 m/s at 33 deg, 1.4 GPa, ~38 m/s slip, f = 0.15) with
     the viscoplastic columns against the thermoelastic ones (thesis ch. 7, a separate code path).  The f branch
-    governs and the titanium column stays elastic, so with the far end moving with the hydro node the two models
-    must give the same interface: measured from 0.2 us on (after the first steps, where the viscoplastic column's
-    elastic compliance takes part of the slip), temperature rise within 2.5e-3 (0.97 K) and friction stress within
-    3.0e-4 of its peak."""
+    governs and the titanium layer stays as strong as its body, so the excess layer (the default closure) adds no
+    slip and the two models must give the same interface: from 0.2 us on, temperature rise measured within 2.0e-4
+    and friction stress within 5.0e-5 of its peak (the `shear` closure of the first draft: 2.5e-3 and 3.0e-4, its
+    elastic layer taking part of the first steps' slip)."""
     from pathlib import Path
 
     from shockfriction.hydro.api import run
@@ -54,7 +54,7 @@ def test_pressure_shear_ti6al4v_reduces_to_the_thermoelastic_model(tmp_path):
     print(f"\nTi pressure-shear, viscoplastic vs thermoelastic from 0.2 us: dT-rise {dT:.2e}, dtau {dtau:.2e}, "
           f"max Theta(0) {a['theta_interface_K'].max():.1f} / {b['theta_interface_K'].max():.1f} K", end="")
     assert a["theta_interface_K"].max() > 700.0  # the regime: the interface heats by ~480 K
-    assert dT < 4e-3 and dtau < 5e-4
+    assert dT < 3e-4 and dtau < 1e-4
 
 
 def test_slide_line_passes_the_tolerance_to_the_viscoplastic_columns(coupled_decks):
