@@ -120,7 +120,11 @@ def test_cone_study_findings_judged_against_plain_coulomb(tmp_path):
             for w in ("steps", "work", "impulse"):
                 shares = [float(r[f"tally_{w}_{b}_{lab}"]) for b in ("coulomb_cap", "sticking_cap", "subgrid")]
                 assert sum(shares) == pytest.approx(1.0, abs=1e-9), (name, w, lab)
-        assert float(r["tally_work_J_0-8us"]) == pytest.approx(float(r["friction_work_J"]), rel=1e-9), name
+        # the window [0, 8 us) of the steps' start times leaves out the closing velocity stage at t = 8 us (the
+        # final record's half step), whose friction work interface.h5 holds: measured -4.6e-6 to -8.5e-5 of it
+        # (the whole-run tally equals it to 1e-9: run_one checks that)
+        ratio = float(r["tally_work_J_0-8us"]) / float(r["friction_work_J"])
+        assert 1.0 - 2e-4 < ratio <= 1.0 + 1e-12, (name, ratio)
     # the tally: three branches that add up, for every sub-grid run
     for name, r in rows.items():
         if r["model"] in ("thermoelastic", "thermoelastoplastic"):
