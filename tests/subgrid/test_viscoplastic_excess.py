@@ -1,8 +1,8 @@
 """The excess layer (``far_end = "excess"``): the coupled closure of the viscoplastic columns (issue 25, item 1).
 
 A quasi-static layer under the uniform stress s slips by W(s) = sum_c dz_c r_c(s): a solid cell flows in excess of the
-reference layer (the unheated, unhardened body, shear yield k_ref) at clamp(s - k_c, 0, max(k_ref - k_c, 0))/eta_vp,
-a molten cell at s/eta_c.  The node's slip is V - k s; below the cap the two are equal (docs/theory/viscoplastic.md,
+reference layer (the body at T0, hardened by its homogeneous flow) by max(x_c - x_ref, 0)/dt, x = (s - k)^+/(eta_vp/dt
++ dk/dgamma), a molten cell at s/eta_c.  The node's slip is V - k s; below the cap the two are equal (docs/theory/viscoplastic.md,
 "Coupled closure: the excess layer")."""
 
 import numpy as np

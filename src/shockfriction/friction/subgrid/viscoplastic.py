@@ -23,9 +23,10 @@ it (the thesis's eq. 2.101).  Far end: impedance s = rho c_s v, or held at a giv
 0 stand-alone, the hydro's shear of the layer under a slide line), or v = 0 (quasi-static); thermally insulated,
 or a fixed temperature.  Under a slide line (``far_end = "excess"``, the coupled closure) the column is a
 quasi-static layer at the uniform stress s = |s(0)| that slips by its flow in excess of the reference layer (the
-unheated, unhardened body, shear yield k_ref)::
+body at T0, hardened by its own homogeneous flow, which every solid cell shares)::
 
-    W(s) = sum_c dz_c r_c,  r_c = min((s - k_c)^+, (k_ref - k_c)^+)/eta_vp (solid),  s/eta_c (molten)
+    W(s) = sum_c dz_c r_c,  r_c = max(x_c(s) - x_ref(s), 0)/dt (solid),  s/eta_c (molten),
+    x(s) = (s - k)^+/(eta_vp/dt + dk/d gamma_p)  (hardening linearised over the step)
     [V] = [V*] - k s = W(s) + slide of the surface (> 0 only at the cap)
 
 Discretisation: staggered grid, v and e at the nodes z_i (lumped masses rho w_i), s, gamma_e, eps in the
@@ -277,12 +278,19 @@ def _hardening_slope(yh, kf, eps, beta, n, Ymax):
 
 
 @njit(cache=True)
+def _linear_increment(s, k, hk, eta_dt):
+    """Plastic increment over the step at the stress s of a layer of yield k and hardening slope hk = dk/d gamma:
+    (s - k)^+/(eta_vp/dt + hk) (the overstress law with the hardening linearised over the step: the first iterate
+    of :func:`return_map` with G -> 0)."""
+    return (s - k) / (eta_dt + hk) if s > k else 0.0
+
+
+@njit(cache=True)
 def _excess_increment(s, kc, hc, kref, href, eta_dt):
-    """Plastic increment of a solid cell in excess of the reference layer's at the stress s:
-    max(x_c - x_ref, 0), x = (s - k)^+/(eta_vp/dt + dk/d gamma) (the overstress law with the hardening linearised
-    over the step: the first iterate of :func:`return_map` with G -> 0); returns (increment, d increment/ds)."""
-    xc = (s - kc) / (eta_dt + hc) if s > kc else 0.0
-    xr = (s - kref) / (eta_dt + href) if s > kref else 0.0
+    """Plastic increment of a solid cell in excess of the reference layer's at the stress s (both by
+    :func:`_linear_increment`): max(x_c - x_ref, 0); returns (increment, d increment/ds)."""
+    xc = _linear_increment(s, kc, hc, eta_dt)
+    xr = _linear_increment(s, kref, href, eta_dt)
     if xc <= xr:
         return 0.0, 0.0
     d = 1.0 / (eta_dt + hc)
@@ -292,24 +300,30 @@ def _excess_increment(s, kc, hc, kref, href, eta_dt):
 
 
 @njit(cache=True)
+def _excess_cell_rate(s, c, j, G, yh, kf, eta, eps, kref, href, eta_dt, dt, beta, n, Ymax):
+    """Excess shear rate r_c of cell c of column j at the uniform stress s >= 0 and dr_c/ds: a solid cell flows in
+    excess of the reference layer (the body at T0, hardened by its homogeneous flow: yield kref, hardening slope
+    href) by :func:`_excess_increment` over dt; a molten or mushy cell (G = 0) at s/eta_c."""
+    if G[c, j] <= 0.0:
+        return s / eta[c, j], 1.0 / eta[c, j]
+    kc = yh[c, j] * kf[c, j]
+    if s <= kc:
+        return 0.0, 0.0
+    x, dx = _excess_increment(s, kc, _hardening_slope(yh[c, j], kf[c, j], eps[c, j], beta, n, Ymax), kref, href,
+                              eta_dt)
+    return x / dt, dx / dt
+
+
+@njit(cache=True)
 def _excess_rate(s, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M):
     """Layer slip rate W(s) = sum_c dz_c r_c(s) of column j at the uniform stress s >= 0 (far_end = "excess") and
-    dW/ds: a solid cell flows in excess of the reference layer (the body at T0, hardened by its homogeneous flow:
-    yield kref, hardening slope href) by :func:`_excess_increment` over dt; a molten or mushy cell (G = 0) at
-    r_c = s/eta_c."""
+    dW/ds (r_c: :func:`_excess_cell_rate`)."""
     W = 0.0
     dW = 0.0
     for c in range(M):
-        if G[c, j] > 0.0:
-            kc = yh[c, j] * kf[c, j]
-            if s > kc:
-                hc = _hardening_slope(yh[c, j], kf[c, j], eps[c, j], beta, n, Ymax)
-                x, dx = _excess_increment(s, kc, hc, kref, href, eta_dt)
-                W += dz[c] * x / dt
-                dW += dz[c] * dx / dt
-        else:
-            W += dz[c] * s / eta[c, j]
-            dW += dz[c] / eta[c, j]
+        r, dr = _excess_cell_rate(s, c, j, G, yh, kf, eta, eps, kref, href, eta_dt, dt, beta, n, Ymax)
+        W += dz[c] * r
+        dW += dz[c] * dr
     return W, dW
 
 
@@ -737,18 +751,13 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
                     if not act[j]:
                         continue
                     s_x = abs(ts[j])
-                    r = 0.0
+                    r, _ = _excess_cell_rate(s_x, c, j, G, yh, kf, eta, eps, kref[j], href[j], eta_x / dt, dt,
+                                             beta_h, n_h, Ymax)
                     if G[c, j] > 0.0:
-                        kc = yh[c, j] * kf[c, j]
-                        if s_x > kc:
-                            hc = _hardening_slope(yh[c, j], kf[c, j], eps[c, j], beta_h, n_h, Ymax)
-                            x, _ = _excess_increment(s_x, kc, hc, kref[j], href[j], eta_x / dt)
-                            r = x / dt
                         dgp[c, j] = sgn[j] * r * dt
                         gdm[c, j] = 0.0
                         h = beta_Q * s_x * r * dt * dz[c]
                     else:
-                        r = s_x / eta[c, j]
                         dgp[c, j] = 0.0
                         gdm[c, j] = sgn[j] * r
                         h = eta[c, j] * r * r * dt * dz[c]
@@ -908,8 +917,8 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
         thick = 0.0
         dref = 0.0  # excess layer: the reference's plastic strain increment at the step's stress, which every solid
         # cell shares (the same linearised hardening as the cells' increments)
-        if excess and abs(ts[j]) > kref[j]:
-            dref = (abs(ts[j]) - kref[j]) / (eta_x / dt + href[j]) / SQRT3
+        if excess:
+            dref = _linear_increment(abs(ts[j]), kref[j], href[j], eta_x / dt) / SQRT3
             eps_ref[j] += dref
         for i in range(nn):
             dv = vn[i, j] - v[i, j]
