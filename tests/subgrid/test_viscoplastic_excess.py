@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns, _excess_solve
+from shockfriction.friction.subgrid.excess_layer import _layer_solve
+from shockfriction.friction.subgrid.viscoplastic import ViscoplasticColumns
 from shockfriction.materials.library import get_material
 
 
@@ -45,12 +46,13 @@ def test_excess_stress_is_the_root_of_the_slip_balance(seed):
     eta_l = rng.uniform(1e-3, 1e-2, M)
     eta_vp = [50.0, 1e-2, 1e-3][seed % 3]
     dt = 1e-9
-    G = np.where(liquid, 0.0, 27e9)[:, None]
-    eta = np.where(liquid, eta_l, 0.0)[:, None]
+    G = np.where(liquid, 0.0, 27e9)
+    eta = np.where(liquid, eta_l, 0.0)
+    hden = np.where(liquid, 1.0, eta_vp / dt + hc)  # the kernel's cell data: eta_vp/dt + dk/dgamma
     cap = 0.9 * Ymax * 0.5
     for V, k in ((5.0, 1e-7), (0.2, 1e-8), (40.0, 2e-9), (3.0, 0.0)):
-        s, W, ok = _excess_solve(0, V, k, cap, G, yh[:, None], kf[:, None], eta, eps[:, None], dz, k_ref, h_ref,
-                                 eta_vp / dt, dt, beta, n, Ymax, M)
+        s, W, ok = _layer_solve(V, k, cap, M, G, np.where(liquid, 0.0, kc), hden, eta, dz, k_ref, eta_vp / dt + h_ref,
+                                dt, bool(liquid.any()))
         assert ok
         g = lambda x: V - k * x - _W(x, kc, hc, liquid, eta_l, dz, k_ref, h_ref, eta_vp / dt, dt)  # noqa: E731
         ref = cap if g(cap) >= 0.0 else brentq(g, 0.0, cap, xtol=1e-14 * cap, rtol=1e-15)

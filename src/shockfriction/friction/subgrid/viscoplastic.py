@@ -45,7 +45,8 @@ as heat and booked (rows E_NUMERICAL: kinetic, E_SOFTENING: elastic), so the ene
 does not converge is redone on sub-steps (dt/2 ... dt/16); one that still fails raises.
 All 2D arrays are (n_nodes or n_cells, n_columns): the column index is innermost; the columns are independent
 and run in parallel blocks where numba has threads (:func:`viscoplastic_step`; cost: docs/theory/viscoplastic.md,
-"Cost").
+"Cost").  The excess layer (no velocity unknowns: a heat problem and a scalar) has its own kernel, one column at a
+time on profiles stored column by column (:mod:`shockfriction.friction.subgrid.excess_layer`).
 """
 
 from __future__ import annotations
@@ -96,16 +97,12 @@ START_LEVELS = 6
 PICARD_TOL = 1e-6
 # parameter vector of the kernel (besides the SCG array)
 (P_RHO, P_C, P_KAPPA, P_L, P_T0, P_ETA_VP, P_ETA_F, P_E_R, P_BETA_T, P_BETA_Q, P_F, P_Z, P_INERTIA,
- P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R, P_MAX_NEWTON, P_EXCESS) = range(20)
-N_PAR = 20
+ P_T_FAR, P_MECH_TOL, P_HEAT_TOL, P_PICARD_TOL, P_V_R, P_MAX_NEWTON) = range(19)
+N_PAR = 19
 #: far-end conditions: "impedance" rho c_s (stand-alone), "held" (at a given velocity), "excess" (a quasi-static layer
-#: whose slip is its flow in excess of the reference layer's: the coupled closure, docs/theory/viscoplastic.md)
+#: whose slip is its flow in excess of the reference layer's: the coupled closure, docs/theory/viscoplastic.md,
+#: stepped by its own kernel, :mod:`shockfriction.friction.subgrid.excess_layer`)
 FAR_ENDS = ("impedance", "held", "excess")
-#: smallest overstress viscosity (Pa s) of the excess layer's rates (far_end = "excess"): eta_vp = 0, the
-#: rate-independent limit, is taken at this value (a layer slip of 1 m/s over 1 um then needs 1 Pa of overstress)
-EXCESS_MIN_ETA = 1e-6
-#: iterations of the excess layer's scalar solve (safeguarded Newton on a piecewise-linear function)
-EXCESS_MAX_ITER = 200
 #: iterations of the mechanics Newton in one Picard sweep (a column that needs more fails its step, which is then
 #: redone in sub-steps)
 MAX_NEWTON = 200
@@ -268,108 +265,13 @@ def _slope(j, vt, v, d, S, mass, dt, stick, k, v_free, ts, impedance, Zc):
     return g
 
 
-@njit(cache=True)
-def _hardening_slope(yh, kf, eps, beta, n, Ymax):
-    """d k/d gamma_p of a cell at the start of the step: k = Y(eps) kf, eps = gamma_p/sqrt3, dY/d eps =
-    n beta Y/(1 + beta eps) below Ymax, 0 at it."""
-    if yh >= Ymax:
-        return 0.0
-    return kf * n * beta * yh / ((1.0 + beta * eps) * SQRT3)
-
-
-@njit(cache=True)
-def _linear_increment(s, k, hk, eta_dt):
-    """Plastic increment over the step at the stress s of a layer of yield k and hardening slope hk = dk/d gamma:
-    (s - k)^+/(eta_vp/dt + hk) (the overstress law with the hardening linearised over the step: the first iterate
-    of :func:`return_map` with G -> 0)."""
-    return (s - k) / (eta_dt + hk) if s > k else 0.0
-
-
-@njit(cache=True)
-def _excess_increment(s, kc, hc, kref, href, eta_dt):
-    """Plastic increment of a solid cell in excess of the reference layer's at the stress s (both by
-    :func:`_linear_increment`): max(x_c - x_ref, 0); returns (increment, d increment/ds)."""
-    xc = _linear_increment(s, kc, hc, eta_dt)
-    xr = _linear_increment(s, kref, href, eta_dt)
-    if xc <= xr:
-        return 0.0, 0.0
-    d = 1.0 / (eta_dt + hc)
-    if s > kref:
-        d -= 1.0 / (eta_dt + href)
-    return xc - xr, d
-
-
-@njit(cache=True)
-def _excess_cell_rate(s, c, j, G, yh, kf, eta, eps, kref, href, eta_dt, dt, beta, n, Ymax):
-    """Excess shear rate r_c of cell c of column j at the uniform stress s >= 0 and dr_c/ds: a solid cell flows in
-    excess of the reference layer (the body at T0, hardened by its homogeneous flow: yield kref, hardening slope
-    href) by :func:`_excess_increment` over dt; a molten or mushy cell (G = 0) at s/eta_c."""
-    if G[c, j] <= 0.0:
-        return s / eta[c, j], 1.0 / eta[c, j]
-    kc = yh[c, j] * kf[c, j]
-    if s <= kc:
-        return 0.0, 0.0
-    x, dx = _excess_increment(s, kc, _hardening_slope(yh[c, j], kf[c, j], eps[c, j], beta, n, Ymax), kref, href,
-                              eta_dt)
-    return x / dt, dx / dt
-
-
-@njit(cache=True)
-def _excess_rate(s, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M):
-    """Layer slip rate W(s) = sum_c dz_c r_c(s) of column j at the uniform stress s >= 0 (far_end = "excess") and
-    dW/ds (r_c: :func:`_excess_cell_rate`)."""
-    W = 0.0
-    dW = 0.0
-    for c in range(M):
-        r, dr = _excess_cell_rate(s, c, j, G, yh, kf, eta, eps, kref, href, eta_dt, dt, beta, n, Ymax)
-        W += dz[c] * r
-        dW += dz[c] * dr
-    return W, dW
-
-
-@njit(cache=True)
-def _excess_solve(j, V, kj, cap, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M):
-    """Uniform stress s in [0, cap] of the excess layer of column j: the root of g(s) = V - k s - W(s) (V = |[V*]|,
-    k the partner compliance), or s = cap where g(cap) >= 0 (the surface slides at the cap and takes the rest,
-    g(cap), of the slip).  g(0) = V > 0 and g is continuous and piecewise linear: a safeguarded Newton (exact on
-    each linear piece, bisection where a step leaves the bracket).  Returns (s, W(s), ok)."""
-    if V <= 0.0 or cap <= 0.0:
-        return 0.0, 0.0, True
-    Wc, _ = _excess_rate(cap, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M)
-    if V - kj * cap - Wc >= 0.0:
-        return cap, Wc, True
-    lo = 0.0
-    hi = cap
-    s = 0.0
-    tol = 1e-14 * (V + 1e-6)
-    W = 0.0
-    for _ in range(EXCESS_MAX_ITER):
-        W, dW = _excess_rate(s, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M)
-        g = V - kj * s - W
-        if abs(g) <= tol:
-            return s, W, True
-        if g > 0.0:
-            lo = s
-        else:
-            hi = s
-        d = kj + dW
-        sn = s + g / d if d > 0.0 else 0.5 * (lo + hi)
-        if not (lo < sn < hi):
-            sn = 0.5 * (lo + hi)
-        if hi - lo <= 1e-15 * cap:
-            W, _ = _excess_rate(hi, j, G, yh, kf, eta, eps, dz, kref, href, eta_dt, dt, beta, n, Ymax, M)
-            return hi, W, True  # g is continuous: the root is located to the resolution of s
-        s = sn
-    return s, W, False
-
-
 #: columns from which :func:`viscoplastic_step` runs in parallel blocks when numba has more than one thread
 PARALLEL_MIN_COLUMNS = 16
 
 
 def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                       tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                      TF, v_far, T2, c2, a2, oth, eps_ref):
+                      TF, v_far, T2, c2, a2, oth):
     """Advance every column by dt (:func:`_step_block` on all columns).  The columns are independent (every
     output, iteration count and branch is per column): with more than one numba thread and at least
     ``PARALLEL_MIN_COLUMNS`` columns they run in parallel blocks of consecutive columns
@@ -379,31 +281,31 @@ def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, ta
     if threads > 1 and nc >= PARALLEL_MIN_COLUMNS:
         _step_parallel(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                        tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                       TF, v_far, T2, c2, a2, oth, eps_ref, min(threads * 4, nc))
+                       TF, v_far, T2, c2, a2, oth, min(threads * 4, nc))
         return 0
     return _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                        tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                       TF, v_far, T2, c2, a2, oth, eps_ref, np.uint64(0), np.uint64(nc))
+                       TF, v_far, T2, c2, a2, oth, np.uint64(0), np.uint64(nc))
 
 
 @njit(cache=True, parallel=True)
 def _step_parallel(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                    tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                   TF, v_far, T2, c2, a2, oth, eps_ref, nblocks):
+                   TF, v_far, T2, c2, a2, oth, nblocks):
     """:func:`_step_block` over ``nblocks`` blocks of consecutive columns in parallel (the scratch ``work`` and
     ``oth`` are per column: the blocks touch disjoint columns of every array)."""
     nc = v.shape[1]
     for b in prange(nblocks):
         _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                     tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                    TF, v_far, T2, c2, a2, oth, eps_ref, np.uint64(b * nc // nblocks),
+                    TF, v_far, T2, c2, a2, oth, np.uint64(b * nc // nblocks),
                     np.uint64((b + 1) * nc // nblocks))
 
 
 @njit(cache=True)
 def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                 tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                TF, v_far, T2, c2, a2, oth, eps_ref, j0, j1):
+                TF, v_far, T2, c2, a2, oth, j0, j1):
     """Advance the columns j0 <= j < j1 by dt (j0, j1 unsigned: the column index of every loop is then known to be
     non-negative, so numba indexes without the negative-index wrap, which costs 15-20 % of the step with signed
     bounds) (state arrays updated in place; see the module docstring).
@@ -426,8 +328,6 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
     T2 (n2, nc), c2 (n2,), a2 (n2 - 1,): the other body's thermal column (two-sided heat; n2 = 0: none, the
     fixed share beta_T): temperatures (node 0 the interface, continuous with T[0]), heat capacities per area
     (J/m^2/K) and conductances kappa2/dy (W/m^2/K); oth (2, n2, nc) scratch.
-    eps_ref (nc,): equivalent plastic strain of the reference layer (far_end = "excess": the body's homogeneous
-    flow, which every solid cell of the layer shares; updated in place; unused otherwise).
     """
     nn, nc = v.shape
     M = nn - 1
@@ -436,7 +336,6 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
     eta_vp, eta_F, E_R = par[P_ETA_VP], par[P_ETA_F], par[P_E_R]
     beta_T, beta_Q, f = par[P_BETA_T], par[P_BETA_Q], par[P_F]
     inertia = par[P_INERTIA] > 0.5
-    excess = par[P_EXCESS] > 0.5  # far_end = "excess": quasi-static layer, slip in excess of the reference layer
     held = math.isinf(par[P_Z])  # far end held (at v_far) also with inertia (far_end = "held")
     imped = inertia and not held  # impedance far end
     th = 1.0  # backward Euler (L-stable: no ringing at c_s dt/dz >> 1); its dissipation is turned into heat
@@ -450,18 +349,6 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
     Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
     tresca = f * Ymax / SQRT3
-    eta_x = max(eta_vp, EXCESS_MIN_ETA)
-    wlay = np.zeros(nc)  # excess layer: its slip rate W (magnitude)
-    # excess layer: the reference layer (the body at T0 and the column's pressure, hardened by its own homogeneous
-    # flow eps_ref, frozen over the step): its shear yield kref = yref kfr
-    kref = np.zeros(nc)
-    href = np.zeros(nc)
-    if excess:
-        for j in range(j0, j1):
-            yref = min(Ymax, Y0 * (1.0 + beta_h * eps_ref[j]) ** n_h)
-            kfr = scg_shear_ratio(F_N[j], T0, g_p, h_p, xi, TF[j]) / SQRT3
-            kref[j] = yref * kfr
-            href[j] = _hardening_slope(yref, kfr, eps_ref[j], beta_h, n_h, Ymax)
     mass = np.empty(nn)
     for i in range(nn):
         mass[i] = rho * w[i] if inertia else 0.0
@@ -580,13 +467,8 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
         # switch at z = 0
         for j in range(j0, j1):
             nsw[j] = 0
-            if excess and act[j]:  # the layer's uniform stress from a scalar solve (no velocity unknowns)
-                s_x, wlay[j], ok_x = _excess_solve(j, abs(v_free[j]), k[j], cap[j], G, yh, kf, eta, eps, dz,
-                                                   kref[j], href[j], eta_x / dt, dt, beta_h, n_h, Ymax, M)
-                ts[j] = sgn[j] * s_x
-                act[j] = not ok_x  # an unconverged solve is flagged below
         fresh = False  # S[1:nn] and Kc hold the cell states at vn
-        for it in range(0 if excess else max_newton):
+        for it in range(max_newton):
             if not fresh:
                 _cell_pass(v, vn, act, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S,
                            Kc, npl, j0, j1)
@@ -742,31 +624,7 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
         for i in range(nn):
             for j in range(j0, j1):
                 src[i, j] = 0.0
-        if excess:  # the layer's excess flow at the stress ts: plastic increments, film rates, the velocity profile
-            for j in range(j0, j1):
-                if act[j]:
-                    vn[M, j] = 0.0
-            for c in range(M - 1, -1, -1):
-                for j in range(j0, j1):
-                    if not act[j]:
-                        continue
-                    s_x = abs(ts[j])
-                    r, _ = _excess_cell_rate(s_x, c, j, G, yh, kf, eta, eps, kref[j], href[j], eta_x / dt, dt,
-                                             beta_h, n_h, Ymax)
-                    if G[c, j] > 0.0:
-                        dgp[c, j] = sgn[j] * r * dt
-                        gdm[c, j] = 0.0
-                        h = beta_Q * s_x * r * dt * dz[c]
-                    else:
-                        dgp[c, j] = 0.0
-                        gdm[c, j] = sgn[j] * r
-                        h = eta[c, j] * r * r * dt * dz[c]
-                    snew[c, j] = 0.0
-                    S[c + 1, j] = ts[j]
-                    vn[c, j] = vn[c + 1, j] + sgn[j] * r * dz[c]
-                    src[c, j] += 0.5 * h
-                    src[c + 1, j] += 0.5 * h
-        for c in range(M if not excess else 0):
+        for c in range(M):
             for j in range(j0, j1):
                 if act[j]:
                     gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vn[c, j] - vn[c + 1, j], dz[c], dt, G[c, j],
@@ -797,10 +655,6 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
                 vh = v_free[j] - ts[j] * k[j]
                 vm = 0.5 * (vh + v_prev[j])
                 v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
-                if excess:  # the friction work ts [V]^n (the hydro's slip at t^n, as the other models book it):
-                    # the layer takes ts W, the surface the rest (a slide at the cap; below it, where [V]^{n+1/2} = W,
-                    # ts ([V]^{n-1/2} - [V]^{n+1/2})/2, which telescopes over the steps)
-                    v0m = sgn[j] * wlay[j]
                 v_half[j] = vh
                 v_local[j] = sgn[j] * (vm - v0m)
                 tau[j] = sgn[j] * ts[j]  # < 0 only while the surface overtakes the slider (rebound)
@@ -900,12 +754,12 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
         vh = v_half[j]
         energy[E_FRICTION, j] += ts[j] * 0.5 * (vh + v_prev[j]) * dt
         energy[E_INTERFACE, j] += q_in[j] * dt
-        v0m = sgn[j] * wlay[j] if excess else (1.0 - th) * v[0, j] + th * vn[0, j]
+        v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
         energy[E_COLUMN_WORK, j] += ts[j] * v0m * dt
         if inertia and not held:
             vmm = (1.0 - th) * v[M, j] + th * vn[M, j]
             energy[E_RADIATED, j] += Zc[j] * vmm * vmm * dt
-        elif vn[M, j] != 0.0 and not excess:  # held end moving with the hydro's shear: its reaction's work leaves
+        elif vn[M, j] != 0.0:  # held end moving with the hydro's shear: its reaction's work leaves
             S_far = S[M, j] - mass[M] * (vn[M, j] - v[M, j]) / dt
             energy[E_RADIATED, j] += S_far * vn[M, j] * dt
         energy[E_OTHER, j] += q2fin[j]
@@ -915,17 +769,12 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
                 T2[kk, j] = oth[0, kk, j] + oth[1, kk, j] * ts2[j]
         energy[E_HEAT_OUT, j] += hfin[j]
         thick = 0.0
-        dref = 0.0  # excess layer: the reference's plastic strain increment at the step's stress, which every solid
-        # cell shares (the same linearised hardening as the cells' increments)
-        if excess:
-            dref = _linear_increment(abs(ts[j]), kref[j], href[j], eta_x / dt) / SQRT3
-            eps_ref[j] += dref
         for i in range(nn):
             dv = vn[i, j] - v[i, j]
             energy[E_NUMERICAL, j] += 0.5 * mass[i] * dv * dv
         for c in range(M):
             sn = snew[c, j]
-            ssol = ts[j] if excess else (1.0 - th) * sold[c, j] + th * sn
+            ssol = (1.0 - th) * sold[c, j] + th * sn
             dg = dgp[c, j]
             gd = gdm[c, j]
             ge_new = sn / G[c, j] if G[c, j] > 0.0 else 0.0
@@ -934,7 +783,7 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
             energy[E_VISCOUS, j] += eta[c, j] * gd * gd * dt * dz[c]
             energy[E_SOFTENING, j] += ssol * (ge_new - ge[c, j]) * dz[c] - del_el
             if G[c, j] > 0.0:
-                eps[c, j] = eps[c, j] + abs(dg) / SQRT3 + dref
+                eps[c, j] = eps[c, j] + abs(dg) / SQRT3
             elif phc[c, j] >= 1.0:
                 eps[c, j] = 0.0  # a fully molten cell forgets its hardening
             ge[c, j] = ge_new
@@ -1295,7 +1144,6 @@ class ViscoplasticColumns:
             self.inertia = False
         self.par[P_Z] = rho * m.shear_wave_speed if far_end == "impedance" else (
             math.inf if far_end == "held" else 0.0)
-        self.par[P_EXCESS] = 1.0 if far_end == "excess" else 0.0
         self.far_end = far_end
         self.par[P_INERTIA] = 1.0 if inertia else 0.0
         self.par[P_T_FAR] = math.nan if far_temperature is None else float(far_temperature)
@@ -1307,26 +1155,39 @@ class ViscoplasticColumns:
         self.scg = m.scg_params()
         # melting temperature T_m(sigma_n) of each column (SCG melt law), or the constant T_F
         self.melt_law = m.melt_law() if pressure_melting else (T_F, 0.0, 0.0, 0.0, 0.0)
+        self._melt_law = np.array(self.melt_law, float)  # the kernel's argument (an array: no reflection per call)
         self.pressure_melting = bool(pressure_melting) and self.melt_law[1] > 0.0
         self.T0, self.T_F, self.beta_T = float(T0), T_F, float(beta_T)
         nn, nc = self.z.size, int(n_columns)
-        self.v = np.zeros((nn, nc))
-        self.ge = np.zeros((nn - 1, nc))
-        self.Gs = np.zeros((nn - 1, nc))
-        self.eps = np.zeros((nn - 1, nc))
+        # the excess layer's kernel steps one column at a time: its profiles are stored column by column (Fortran
+        # order, each column contiguous); the other kernels' loops run across the columns (C order)
+        self._order = "F" if far_end == "excess" else "C"
+        order = self._order
+        self.v = np.zeros((nn, nc), order=order)
+        self.ge = np.zeros((nn - 1, nc), order=order)
+        self.Gs = np.zeros((nn - 1, nc), order=order)
+        self.eps = np.zeros((nn - 1, nc), order=order)
         self.eps_ref = np.zeros(nc)  # the reference layer's plastic strain (far_end = "excess")
-        self.e = np.zeros((nn, nc))
-        self.T = np.full((nn, nc), self.T0)
+        self.e = np.zeros((nn, nc), order=order)
+        self.T = np.full((nn, nc), self.T0, order=order)
         self.energy = np.zeros((N_ENERGY, nc))
         for name in ("tau", "slip_local", "slip_macro", "flux_in", "film_thickness", "_v_half"):
             setattr(self, name, np.zeros(nc))
         self.iterations = np.zeros(nc, dtype=np.int64)
         self.status = np.zeros(nc, dtype=np.int64)
         self.substeps = np.ones(nc, dtype=np.int64)  # sub-steps of the last step (> 1: split, see MAX_SPLIT)
-        self._de = np.zeros((nn, nc))  # enthalpy changes of the last two steps (the Picard predictor)
-        self._de2 = np.zeros((nn, nc))
+        self._de = np.zeros((nn, nc), order=order)  # enthalpy changes of the last two steps (the Picard predictor)
+        self._de2 = np.zeros((nn, nc), order=order)
+        # the excess layer's hardening carried from step to step (excess_layer._hardening_carry): the cells'
+        # Y0 (1 + beta eps)^n and the strain it was computed at, the reference's (row 0) and its strain (row 1);
+        # nan: none (computed afresh)
+        mc = nn - 1 if far_end == "excess" else 0
+        self._yh = np.full((mc, nc), math.nan, order=order)
+        self._yh_eps = np.full((mc, nc), math.nan, order=order)
+        self._yref = np.full((2, nc), math.nan)
         self._dt_prev = np.zeros(2)  # their time steps (0: none); the three are checkpointed with the state
-        self._work = np.empty((N_WORK, nn + 1, nc))  # the kernel's scratch, allocated once
+        # the kernel's scratch, allocated once (the excess layer's kernel keeps its own per column)
+        self._work = np.empty((N_WORK, nn + 1, nc) if far_end != "excess" else (N_WORK, 0, 0))
         self.TF = np.full(nc, float(T_F))  # melting temperature of each column at its last step
         # the other body's thermal column (two-sided heat): first cell as the column's, geometric (other_ratio) down
         # to the column's thermal reach scaled by the diffusivities, sqrt(alpha2/alpha1) z[-1]
@@ -1552,13 +1413,21 @@ class ViscoplasticColumns:
         pw[2] -= shift
         self._dt_prev[:] = step, h1
         if self.pressure_melting:
-            melt_temperatures(F_N, self.melt_law, self.TF)
+            melt_temperatures(F_N, self._melt_law, self.TF)
         retry = np.full(self.n_columns, level < MAX_SPLIT)
-        viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
-                          F_N, v_free, v_prev, k, tau_cap, self.scg, self.par, dt, self.max_picard, self.tau,
-                          self._v_half, self.slip_local, self.flux_in, self.film_thickness, self.iterations,
-                          self.status, self.energy, self._de, self._de2, pw, self._work, retry,
-                          self.TF, v_far, self.T_other, self._c2, self._a2, self._oth, self.eps_ref)
+        if self.far_end == "excess":  # the layer under a slide line: its own kernel, one column at a time
+            from shockfriction.friction.subgrid.excess_layer import excess_step
+            excess_step(self.dz, self.weights, self.v, self.eps, self.e, self.T, F_N, v_free, v_prev, k,
+                        tau_cap, self.scg, self.par, dt, self.max_picard, self.tau, self._v_half, self.slip_local,
+                        self.flux_in, self.film_thickness, self.iterations, self.status, self.energy, self._de,
+                        self._de2, pw, retry, self.TF, self.T_other, self._c2, self._a2, self._oth, self.eps_ref,
+                        self._yh, self._yh_eps, self._yref)
+        else:
+            viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
+                              F_N, v_free, v_prev, k, tau_cap, self.scg, self.par, dt, self.max_picard, self.tau,
+                              self._v_half, self.slip_local, self.flux_in, self.film_thickness, self.iterations,
+                              self.status, self.energy, self._de, self._de2, pw, self._work, retry,
+                              self.TF, v_far, self.T_other, self._c2, self._a2, self._oth)
         self.substeps[:] = 1
         redo = np.flatnonzero(retry & (((self.iterations < 0) & (self.status == OK))
                                        | (self.status == NO_CONVERGENCE)))
@@ -1573,7 +1442,9 @@ class ViscoplasticColumns:
         step's, tau being their mean (what the hydrocode applies over dt)."""
         sub = object.__new__(ViscoplasticColumns)
         sub.__dict__.update(self.__dict__)  # the grid and the parameters; the arrays below are the columns' own
-        for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "_de", "_de2", "T_other"):
+        for name in ("v", "ge", "Gs", "eps", "e", "T", "_de", "_de2", "_yh", "_yh_eps"):
+            setattr(sub, name, np.array(getattr(self, name)[:, cols], order=self._order))
+        for name in ("energy", "T_other", "_yref"):
             setattr(sub, name, np.ascontiguousarray(getattr(self, name)[:, cols]))
         n = cols.size
         for name in ("tau", "slip_local", "slip_macro", "flux_in", "film_thickness", "_v_half"):
@@ -1605,7 +1476,7 @@ class ViscoplasticColumns:
         ok = status == OK
         if ok.any():
             keep = cols[ok]
-            for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "T_other"):
+            for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "T_other", "_yh", "_yh_eps", "_yref"):
                 getattr(self, name)[:, keep] = getattr(sub, name)[:, ok]
             self.eps_ref[keep] = sub.eps_ref[ok]
             self._de[:, keep] = (sub.e - e_start)[:, ok]  # the predictor's history: the change over the whole dt
