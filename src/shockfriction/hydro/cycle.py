@@ -175,8 +175,9 @@ class Simulation:
         # partition's step and bad cell (a parallel run also keeps the serial scratch: its governor runs the serial
         # kernels when one thread is faster)
         self._force_scratch = (np.zeros(K.FORCE_SCRATCH), None)
+        # numba's thread count also sets the sub-grid columns' (their kernels choose by it): one thread means one
+        threading_policy.use_threads(self.threads if self.parallel else 1)
         if self.parallel:
-            threading_policy.use_threads(self.threads)
             part = make_partition(s.conn, nn, partition_count(self.threads, nc))
             npart = part.parts
             self.partition = part

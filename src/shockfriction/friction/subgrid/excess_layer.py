@@ -35,6 +35,7 @@ from shockfriction.materials.strength import (
     I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_hardening_power, scg_shear_ratio,
     scg_shear_ratio_simd)
 
+INV_SQRT3 = 1.0 / SQRT3
 #: columns from which :func:`excess_step` runs in parallel blocks when numba has more than one thread
 PARALLEL_MIN_COLUMNS = 8
 #: smallest overstress viscosity (Pa s) of the layer's rates: eta_vp = 0, the rate-independent limit, is taken at
@@ -49,13 +50,12 @@ SERIES_U = 1e-2
 SERIES_TERMS = 8
 
 
-@njit(cache=True)
-def _hardening_slope(yh, kf, eps, beta, n, Ymax):
-    """d k/d gamma_p of a cell at the start of the step: k = Y(eps) kf, eps = gamma_p/sqrt3, dY/d eps =
-    n beta Y/(1 + beta eps) below Ymax, 0 at it."""
-    if yh >= Ymax:
-        return 0.0
-    return kf * n * beta * yh / ((1.0 + beta * eps) * SQRT3)
+@njit(cache=True, inline="always", error_model="numpy")
+def _slope_factor(y, eps, beta, n, Ymax):
+    """dY/d gamma_p of the hardening y = min(Ymax, Y0 (1 + beta eps)^n), eps = gamma_p/sqrt3: n beta y/((1 + beta
+    eps) sqrt3) below Ymax, 0 at it; a layer of shear ratio k_fac = (G/G0)/sqrt3 hardens by dk/d gamma_p =
+    k_fac times this."""
+    return n * beta * y / ((1.0 + beta * eps) * SQRT3) if y < Ymax else 0.0
 
 
 @njit(cache=True)
@@ -501,8 +501,9 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
                                                 nodes[6], nodes[7], nodes[8], nodes[9])
     Tk, dTk, lo, di, up, rhs, trial, vl = (nodes[10], nodes[11], nodes[12], nodes[13], nodes[14], nodes[15],
                                           nodes[16], nodes[17])
-    cells = np.empty((11, M))
+    cells = np.empty((12, M))
     rc, hc = cells[9], cells[10]  # each cell's excess rate and heat over the step
+    hfac = cells[11]
     epsl, yh, G, kc, hden, eta, phc, dgp, gdm = (cells[0], cells[1], cells[2], cells[3], cells[4], cells[5],
                                                  cells[6], cells[7], cells[8])
     for j in range(j0, j1):
@@ -526,9 +527,9 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
         yrc[0, j] = yr
         yrc[1, j] = eps_ref[j]
         yref = min(yr, Ymax)
-        kfr = scg_shear_ratio(F, T0, g_p, h_p, xi, TFj) / SQRT3
+        kfr = scg_shear_ratio_simd(F, T0, g_p, h_p, xi, TFj) * INV_SQRT3  # as the cells' (the same bits at T0)
         kref = yref * kfr
-        href = _hardening_slope(yref, kfr, eps_ref[j], beta_h, n_h, Ymax)
+        href = kfr * _slope_factor(yref, eps_ref[j], beta_h, n_h, Ymax)
         hrden = eta_dt + href
         # first Picard iterate: quadratic predictor on a smooth history, else linear
         m1 = np.int64(0)  # the maxima as the bits of non-negative floats (ordered as integers: vectorises)
@@ -560,6 +561,7 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
             yhc[c, j] = yh[c]
             yhe[c, j] = epsl[c]
             yh[c] = min(yh[c], Ymax)
+            hfac[c] = _slope_factor(yh[c], epsl[c], beta_h, n_h, Ymax)  # fixed over the step
         fin = False
         failed = False
         blo = -np.inf  # bracket of the interface enthalpy root
@@ -587,10 +589,9 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
                 r = r if ph <= 0.0 else 0.0
                 melt |= r <= 0.0
                 G[c] = G0 * r
-                kf = r / SQRT3
+                kf = r * INV_SQRT3
                 kc[c] = yh[c] * kf
-                hden[c] = eta_dt + (kf * n_h * beta_h * yh[c] / ((1.0 + beta_h * epsl[c]) * SQRT3)
-                                    if yh[c] < Ymax else 0.0)  # + d k/d gamma_p (_hardening_slope)
+                hden[c] = eta_dt + kf * hfac[c]  # + d k/d gamma_p
             if melt:  # a cell with melt: a liquid layer ph dz in series with rigid solid (sub-cell film)
                 for c in range(M):
                     eta[c] = 0.0

@@ -1527,13 +1527,19 @@ class ViscoplasticColumns:
         return self._c2 @ (self.T_other - self.T0)
 
     def latent_stored(self) -> np.ndarray:
+        # (the books call this every step: without a node above its solidus it is zero, without the full pass)
+        if not np.any(self.e.max(axis=0) > self.rho_c * (self.TF - self.T0)):
+            return np.zeros(self.n_columns)
         return self.rho_L * (self.weights @ self.melt_fraction())
 
     def kinetic(self) -> np.ndarray:
-        rho = self.par[P_RHO] if self.inertia else 0.0
-        return 0.5 * rho * (self.weights @ self.v**2)
+        if not self.inertia:  # a quasi-static column (the excess layer) carries none
+            return np.zeros(self.n_columns)
+        return 0.5 * self.par[P_RHO] * (self.weights @ self.v**2)
 
     def elastic(self) -> np.ndarray:
+        if self.far_end == "excess":  # the excess layer stores no elastic strain (its cells' is the hydro's)
+            return np.zeros(self.n_columns)
         return 0.5 * (self.dz @ (self.Gs * self.ge**2))
 
     def mechanical_energy(self) -> np.ndarray:
