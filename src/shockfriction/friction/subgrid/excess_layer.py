@@ -29,7 +29,7 @@ from shockfriction.jit_bits import f64_bits, f64_from_bits
 from shockfriction.friction.subgrid.viscoplastic import (
     BAD_INPUT, E_COLUMN_WORK, E_FRICTION, E_HEAT_OUT, E_INTERFACE, E_OTHER, E_PLASTIC, E_VISCOUS, NO_CONVERGENCE, OK,
     P_BETA_Q, P_BETA_T, P_C, P_E_R, P_ETA_F, P_ETA_VP, P_F, P_HEAT_TOL, P_KAPPA, P_L, P_PICARD_TOL, P_RHO, P_T0,
-    P_T_FAR, P_V_R, PHI_MIN, SMOOTH, SQRT3, _kink_stop, liquid_viscosity,
+    P_T_FAR, P_V_R, PHI_MIN, SMOOTH, SQRT3, _heat_residual2, _kink_stop, liquid_viscosity,
     other_body_response, temperature_of)
 from shockfriction.materials.strength import (
     I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_hardening_power, scg_shear_ratio,
@@ -220,29 +220,6 @@ def _substitute(e, en, rhs, fm, fr, fh):
 
 
 @njit(cache=True, error_model="numpy")
-def _residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_far, al2, be2):
-    """Sum of squares of one column's backward-Euler enthalpy residuals at the enthalpies x."""
-    nn = x.size
-    total = 0.0
-    Tp = 0.0
-    for i in range(nn):
-        Ti, _, _ = temperature_of(x[i], rho_c, rho_L, T0, TF)
-        if i == nn - 1 and fixed_far:
-            break
-        res = w[i] * (x[i] - e[i]) - src[i]
-        if i == 0:
-            res += al2 * Ti + be2
-        if i > 0:
-            res += dt * kap / dz[i - 1] * (Ti - Tp)
-        if i < nn - 1:
-            Tn, _, _ = temperature_of(x[i + 1], rho_c, rho_L, T0, TF)
-            res += dt * kap / dz[i] * (Ti - Tn)
-        total += res * res
-        Tp = Ti
-    return total
-
-
-@njit(cache=True, error_model="numpy")
 def _heat_factor(w, cl, cu, rho_c, al2, fixed_far, fm, fd, fu):
     """The Thomas factorisation of the heat Newton matrix of a column with no node on the melt plateau
     (dT/de = 1/rho c everywhere; the same for every column of a step): multipliers fm, pivots fd, upper diagonal
@@ -250,7 +227,6 @@ def _heat_factor(w, cl, cu, rho_c, al2, fixed_far, fm, fd, fu):
     nn = w.size
     M = nn - 1
     s = 1.0 / rho_c
-    lo_p = 0.0
     for i in range(nn):
         d = w[i]
         lo_i = 0.0
@@ -272,8 +248,6 @@ def _heat_factor(w, cl, cu, rho_c, al2, fixed_far, fm, fd, fu):
             fm[i] = m
             d -= m * fu[i - 1]
         fd[i] = d
-        lo_p = lo_i
-    return lo_p
 
 
 @njit(cache=True, error_model="numpy")
@@ -292,7 +266,7 @@ def _heat_solid(e, en, Tout, src, w, cl, cu, rho_c, rho_L, T0, TF, al2, be2, fm,
         Tk[i] = T0 + e[i] / rho_c
     if over:
         return math.nan
-    # the residual at e' = e, eliminated forward as it is formed
+    # the residual at e' = e
     res = -src[0]
     res += al2 * Tk[0] + be2
     res += cu[0] * (Tk[0] - Tk[1])
@@ -415,8 +389,8 @@ def _column_heat(e, en, Tout, src, w, cl, cu, dt, rho_c, rho_L, T0, TF, fixed_fa
                     trial[i], stop = _kink_stop(en[i], en[i] + lam * rhs[i], es, es + rho_L, rho_L)
                     if stop:
                         same = False
-                if same or _residual2(trial, e, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_far, al2,
-                                      be2) < r0:
+                if same or _heat_residual2(trial, e, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_far, al2,
+                                           be2) < r0:
                     break
                 lam *= 0.5
             exact = same and lam == 1.0

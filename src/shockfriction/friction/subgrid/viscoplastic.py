@@ -801,9 +801,9 @@ def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap,
 
 
 @njit(cache=True)
-def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, j, al2, be2):
-    """Sum of squares of the backward-Euler enthalpy residuals of column j at the enthalpies x (n_nodes,); node 0
-    loses al2 T(0) + be2 to the other body (0, 0: none)."""
+def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far, al2, be2):
+    """Sum of squares of one column's backward-Euler enthalpy residuals at the enthalpies x (n_nodes,; e, src the
+    column's old enthalpies and sources); node 0 loses al2 T(0) + be2 to the other body (0, 0: none)."""
     nn = x.size
     total = 0.0
     Tp = 0.0
@@ -811,7 +811,7 @@ def _heat_residual2(x, e, src, w, dz, dt, kap, rho_c, rho_L, T0, T_F, fixed_far,
         Ti, _, _ = temperature_of(x[i], rho_c, rho_L, T0, T_F)
         if i == nn - 1 and fixed_far:
             break
-        res = w[i] * (x[i] - e[i, j]) - src[i, j]
+        res = w[i] * (x[i] - e[i]) - src[i]
         if i == 0:
             res += al2 * Ti + be2
         if i > 0:
@@ -972,8 +972,8 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_fa
                     trial[i], stop = _kink_stop(en[i, j], en[i, j] + lam * rhs[i, j], es, es + rho_L, rho_L)
                     if stop:  # a node changed branch of T(e): the linearised step is not exact
                         same = False
-                if same or _heat_residual2(trial, e, src, w, dz, dt, kap, rho_c, rho_L, T0, TF[j], fixed_far, j,
-                                           al2[j], be2[j]) < r0[j]:
+                if same or _heat_residual2(trial, e[:, j], src[:, j], w, dz, dt, kap, rho_c, rho_L, T0, TF[j],
+                                           fixed_far, al2[j], be2[j]) < r0[j]:
                     break
                 lam *= 0.5
             exact[j] = same and lam == 1.0
