@@ -22,8 +22,11 @@ wall time), the speed-up over one thread, the parallel efficiency (speed-up / th
 of the ``--n`` block on 1 thread (serial kernels) and on 2 threads (parallel kernels), interleaved, and prints the
 median 2-thread/1-thread throughput ratio (target: never below 0.9).  Policies:
 
-* ``policy``: shockfriction.threading_policy as it stands (passive waiting and the thread governor);
-* ``spin+governor``: libgomp's default waiting (spin, then sleep) with the governor;
+* ``policy``: shockfriction.threading_policy as it stands (a short spin, ``GOMP_SPINCOUNT`` 10000 rounds, and the
+  thread governor);
+* ``spin+governor``: libgomp's default waiting (spin 300000 rounds, then sleep) with the governor;
+* ``passive+governor``: no spin (``OMP_WAIT_POLICY=PASSIVE``: the policy before 0.4) with the governor;
+* ``spin100k+governor``: a spin ten times the policy's (``GOMP_SPINCOUNT`` 100000 rounds) with the governor;
 * ``passive-only``: passive waiting without the governor;
 * ``libgomp-default``: libgomp's own default (spin 300000 rounds, then sleep), no governor: before the policy;
 * ``spin``: ``OMP_WAIT_POLICY=ACTIVE`` (workers never sleep), no governor;
@@ -48,6 +51,8 @@ import time
 POLICIES = {
     "policy": {},
     "spin+governor": {"GOMP_SPINCOUNT": "300000"},
+    "passive+governor": {"OMP_WAIT_POLICY": "PASSIVE"},
+    "spin100k+governor": {"GOMP_SPINCOUNT": "100000"},
     "passive-only": {"OMP_WAIT_POLICY": "PASSIVE", "_GOVERNOR": "0"},
     "libgomp-default": {"GOMP_SPINCOUNT": "300000", "_GOVERNOR": "0"},
     "spin": {"OMP_WAIT_POLICY": "ACTIVE", "_GOVERNOR": "0"},
@@ -101,7 +106,8 @@ def child(n: int, cycles: int, repeats: int, governor: bool) -> dict:
 
 
 def run_child(env_extra: dict, n: int, cycles: int, repeats: int) -> dict:
-    env = dict(os.environ, **env_extra)
+    env = {k: v for k, v in os.environ.items() if k not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT", "KMP_BLOCKTIME")}
+    env.update(env_extra)
     governor = env.pop("_GOVERNOR", "1")
     env.setdefault("PYTHONPATH", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
     out = subprocess.run([sys.executable, os.path.abspath(__file__), "--child", "--n", str(n), "--cycles",

@@ -4,11 +4,16 @@ The deck's ``threads`` (or ``run --threads``) asks for a count: 1 = serial kerne
 parallel (prange) kernels on n threads, 0 = automatic.  This module decides how a request is used:
 
 * **Waiting.** numba's OpenMP layer (GNU libgomp here) lets an idle worker spin for a while
-  before it sleeps.  When another process holds a core, the spinning workers steal the time the
-  working ones need, and two threads ran at 0.03-0.8 times the speed of one.  Passive waiting
-  (``OMP_WAIT_POLICY=PASSIVE``, and ``KMP_BLOCKTIME=0`` for Intel's OpenMP) is set in the
-  environment when this module is imported, before numba starts its threading layer (at the
-  first parallel kernel call); a value the user set is kept.
+  before it sleeps (300 000 rounds by default, a few milliseconds).  When another process holds a
+  core, the spinning workers steal the time the working ones need, and two threads ran at
+  0.03-0.8 times the speed of one; with no spin at all (passive waiting) every parallel region
+  pays for waking a sleeping worker (about 0.1 ms on the 2-core development machine, a virtual
+  machine), which cost 7-15 % of a two-thread cycle.  A short spin, ``GOMP_SPINCOUNT`` =
+  :data:`SPIN_ROUNDS` (about 0.1 ms: it bridges the gaps between the regions of a cycle, not a
+  busy core's time slices), is set in the environment when this module is imported, before numba
+  starts its threading layer (at the first parallel kernel call), unless the user set
+  ``GOMP_SPINCOUNT`` or ``OMP_WAIT_POLICY``; Intel's OpenMP gets ``KMP_BLOCKTIME=0`` (passive:
+  its granularity is a millisecond, not measured here) unless set.
 * **Count.** n is capped by numba's ``NUMBA_NUM_THREADS``; 0 takes the cores this process may
   run on (its CPU affinity), capped alike.
 * **Load.** A busy core still slows a parallel region to its slowest thread.  With n > 1
@@ -36,8 +41,12 @@ import time
 #: below this many cells ``threads = 0`` runs the serial kernels (measured: benchmarks/threads.py --sizes)
 MIN_PARALLEL_CELLS = 4000
 
-#: environment set (unless already set) before numba's threading layer starts
-PASSIVE_WAIT = {"OMP_WAIT_POLICY": "PASSIVE", "KMP_BLOCKTIME": "0"}
+#: libgomp's spin before an idle worker sleeps (rounds; libgomp counts about 1e5 per millisecond): measured with
+#: benchmarks/threads.py --policies (docs/theory/threads.md, "A short spin")
+SPIN_ROUNDS = 10000
+
+#: environment set (unless the user set it, or set OMP_WAIT_POLICY) before numba's threading layer starts
+SHORT_SPIN = {"GOMP_SPINCOUNT": str(SPIN_ROUNDS), "KMP_BLOCKTIME": "0"}
 
 
 def threading_layer_started() -> bool:
@@ -49,13 +58,13 @@ def threading_layer_started() -> bool:
     return bool(getattr(parallel, "_is_initialized", False))
 
 
-def set_passive_wait() -> bool:
-    """Put :data:`PASSIVE_WAIT` in the environment where the user left it unset (and no
-    ``GOMP_SPINCOUNT`` says otherwise).  Returns False when numba's threading layer has already
-    started, so that the setting comes too late for this process."""
-    if "GOMP_SPINCOUNT" not in os.environ:
-        for key, value in PASSIVE_WAIT.items():
-            os.environ.setdefault(key, value)
+def set_short_spin() -> bool:
+    """Put :data:`SHORT_SPIN` in the environment where the user left it unset (no ``GOMP_SPINCOUNT``
+    is set where the user chose ``OMP_WAIT_POLICY``).  Returns False when numba's threading layer
+    has already started, so that the setting comes too late for this process."""
+    if "OMP_WAIT_POLICY" not in os.environ:
+        os.environ.setdefault("GOMP_SPINCOUNT", SHORT_SPIN["GOMP_SPINCOUNT"])
+    os.environ.setdefault("KMP_BLOCKTIME", SHORT_SPIN["KMP_BLOCKTIME"])
     return not threading_layer_started()
 
 
@@ -84,10 +93,10 @@ def effective_threads(requested: int, n_cells: int) -> int:
 
 
 def use_threads(threads: int) -> None:
-    """Make the parallel kernels run on ``threads`` threads (passive waiting first)."""
+    """Make the parallel kernels run on ``threads`` threads (the short spin first)."""
     import numba
 
-    set_passive_wait()
+    set_short_spin()
     numba.set_num_threads(threads)
 
 
@@ -142,4 +151,4 @@ class ThreadGovernor:
         self._last = time.perf_counter()
 
 
-set_passive_wait()
+set_short_spin()

@@ -1,4 +1,4 @@
-"""The threading policy: passive OpenMP waiting, the thread count of a request, the governor that
+"""The threading policy: a short OpenMP spin, the thread count of a request, the governor that
 switches between 1 and n threads (results unchanged, bit for bit), and ``threads`` end to end
 through the deck and the command line."""
 
@@ -24,17 +24,17 @@ def _block(n: int, threads: int, end: str = "0.3 us") -> dict:
                         "boundary": {"bottom": "fixed", "left": "symmetry"}}]}
 
 
-def test_passive_waiting_is_in_the_environment_unless_the_user_chose():
-    assert os.environ.get("OMP_WAIT_POLICY") in ("PASSIVE", "passive", "ACTIVE", "active") or \
-        "GOMP_SPINCOUNT" in os.environ
-    code = ("import os; os.environ['OMP_WAIT_POLICY'] = 'ACTIVE'; import shockfriction.threading_policy; "
-            "print(os.environ['OMP_WAIT_POLICY'], os.environ['KMP_BLOCKTIME'])")
+def test_short_spin_is_in_the_environment_unless_the_user_chose():
+    assert "GOMP_SPINCOUNT" in os.environ or "OMP_WAIT_POLICY" in os.environ
     env = {k: v for k, v in os.environ.items() if k not in ("OMP_WAIT_POLICY", "KMP_BLOCKTIME", "GOMP_SPINCOUNT")}
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    assert out.stdout.split() == ["ACTIVE", "0"]
-    code = "import shockfriction.threading_policy, os; print(os.environ['OMP_WAIT_POLICY'])"
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
-    assert out.stdout.strip() == "PASSIVE"
+    show = "print(os.environ.get('OMP_WAIT_POLICY', '-'), os.environ.get('GOMP_SPINCOUNT', '-'), os.environ['KMP_BLOCKTIME'])"
+    cases = {"": ["-", str(tp.SPIN_ROUNDS), "0"],                       # nothing set: the short spin
+             "os.environ['OMP_WAIT_POLICY'] = 'ACTIVE'; ": ["ACTIVE", "-", "0"],  # the user's policy is kept
+             "os.environ['GOMP_SPINCOUNT'] = '300000'; ": ["-", "300000", "0"]}  # and the user's spin
+    for pre, expected in cases.items():
+        code = f"import os; {pre}import shockfriction.threading_policy; {show}"
+        out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+        assert out.stdout.split() == expected, pre
 
 
 def test_thread_count_of_a_request():

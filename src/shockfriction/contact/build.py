@@ -59,7 +59,7 @@ class SlideLineInterface:
                    vx_old=vx_old, vy_old=vy_old, cell_yield=state.yield_stress, cell_mass=state.cell_mass,
                    cell_energy=state.e, shift_x=getattr(state, "shift_x", None),
                    shift_y=getattr(state, "shift_y", None), deferred=True,
-                   parallel=bool(getattr(self._sim, "_passes_parallel", False)))
+                   parallel=bool(getattr(self._sim, "passes_parallel", False)))
         if not self._deferred:
             self.after_interfaces(state, dt, t, cycle)
 

@@ -64,7 +64,7 @@ class Interface(Protocol):
     def apply(self, state, dt: float, t: float, cycle: int) -> None: ...
 
 
-# the staged cycle's node passes run in parallel from this many nodes (Simulation._passes_parallel).  0: always, on
+# the staged cycle's node passes run in parallel from this many nodes (Simulation.passes_parallel).  0: always, on
 # the parallel path.  On the 16-core device machine the cone shot (32 k nodes) ran 1.44 s with its passes serial
 # (from 131 072 nodes) and 0.89 s with them parallel on 16 threads, 1.28 / 0.86 s on 8 (docs/theory/threads.md)
 STAGED_PARALLEL_NODES = 0
@@ -319,7 +319,7 @@ class Simulation:
             obj.after_step(self.state, dt, self.state.t, self.state.cycle)
 
     @property
-    def _passes_parallel(self) -> bool:
+    def passes_parallel(self) -> bool:
         """The staged cycle's (interfaces, probes) node passes between the force pass and the cell update (free
         velocities, the jumps' works, position shifts, kinetic energy, viscous heat, positions) and the slide lines'
         geometry in parallel: with the parallel kernels on :data:`STAGED_PARALLEL_THREADS` threads or more and a
@@ -362,7 +362,7 @@ class Simulation:
             # in _vx_old, v* in _vx_pre): on the parallel path without node groups the border nodes' force sums
             # and the velocities in one parallel region (the same bytes)
             grouped = self._grp[0].shape[0] > 1
-            fused = self._passes_parallel and not grouped
+            fused = self.passes_parallel and not grouped
             ie = self._forces(record, not fused)
             if grouped:
                 K.sum_groups(s.fx, s.fy, *self._grp)
@@ -374,7 +374,7 @@ class Simulation:
                                                  self._vx_pre, self._vy_pre, True, bcorner, bnodes, bptr, bcorn,
                                                  self._partition_args()[0].shape[0] - 1)
             else:
-                advance = K.advance_velocities_parallel if self._passes_parallel else K.advance_velocities
+                advance = K.advance_velocities_parallel if self.passes_parallel else K.advance_velocities
                 advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
                         self._vy_pre, True)
             # and the boundary constraints
@@ -395,7 +395,7 @@ class Simulation:
             if joint:
                 # the interfaces' jumps J = v - v_free, added to _vx_pre; the constraints; their jumps v - v_pre
                 # over all nodes: the three steps below in one pass (jump_works: the same bytes)
-                works = K.jump_works_parallel if self._passes_parallel else K.jump_works
+                works = K.jump_works_parallel if self.passes_parallel else K.jump_works
                 wi, wb = works(s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, self._vx_free, self._vy_free,
                                self._jx_int_prev, self._jy_int_prev, self._vx_pre, self._vy_pre, self._jx_bc_prev,
                                self._jy_bc_prev, *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons,
@@ -431,7 +431,7 @@ class Simulation:
         # heat put into cells during this step counts half at t^n (it is centred there)
         q_int = 0.5 * (q_before + en.interface_heat)
         if ke is None:
-            if self._passes_parallel:
+            if self.passes_parallel:
                 ke = K.kinetic_energy_product_parallel(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own,
                                                        self._sums[1])
             else:
@@ -440,7 +440,7 @@ class Simulation:
         if in_update:
             self._pending_row = (ke, ie, q_int - q_before, budget)
             return
-        if self._passes_parallel:
+        if self.passes_parallel:
             qv = K.viscous_heat_parallel(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv,
                                          s.cell_mass, s.e, self._sums[2])
         else:
@@ -495,7 +495,7 @@ class Simulation:
 
     def _impulse_work(self, nodes, *args) -> float:
         """:func:`~shockfriction.hydro.kernels.impulse_work`, in parallel over many nodes (the same sum)."""
-        if self._passes_parallel and nodes.shape[0] > 4 * K.SUM_CHUNK:
+        if self.passes_parallel and nodes.shape[0] > 4 * K.SUM_CHUNK:
             return K.impulse_work_parallel(nodes, *args, self._sums[1])
         return K.impulse_work(nodes, *args)
 
@@ -515,12 +515,12 @@ class Simulation:
         K.apply_constraints(sx, sy, zero, zero, s.mass_own, *self._cons_fixed, 0.0)
         # a group's force is the group sum, given to each member: weight by mass_own/mass.  Moves x^n, zeroes the
         # shifts and marks the nodes moved (after the groups and constraints) in ``moved``
-        shift = K.shift_nodes_parallel if self._passes_parallel else K.shift_nodes
+        shift = K.shift_nodes_parallel if self.passes_parallel else K.shift_nodes
         w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1], moved)
         s.energy.projection_work += w
         # energy-neutral: the cells touching a shifted node take their volume at the shifted x^n as V^n, so the
         # cell update's -p dV sees only the motion over the step, not the shift (e is kept across the shift)
-        volumes = K.shifted_volumes_parallel if self._passes_parallel else K.shifted_volumes
+        volumes = K.shifted_volumes_parallel if self.passes_parallel else K.shifted_volumes
         volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume)
 
     def _advance_stage(self) -> None:
@@ -529,7 +529,7 @@ class Simulation:
         dt = s.dt
         # 5 positions
         if self.parallel:
-            move = K.move_nodes_parallel if self._passes_parallel else K.move_nodes
+            move = K.move_nodes_parallel if self.passes_parallel else K.move_nodes
             move(s.x, s.y, s.vx, s.vy, dt, self._x_half, self._y_half)
         # 6 cells (serial: 5 and 6 in one call)
         args = (s.conn, self._x_half, self._y_half, s.x, s.y, s.vx, s.vy, s.mat, s.props, s.isentrope, s.cell_mass,

@@ -1015,7 +1015,8 @@ def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_fa
             if i < M:
                 flux -= au * (Tk[i, j] - Tk[i + 1, j])
             if i == M and fixed_far:
-                hout[j] = flux  # what node M would gain: it leaves through z = h
+                if not live[j]:  # an unconverged column keeps its nan (the caller stops it)
+                    hout[j] = flux  # what node M would gain: it leaves through z = h
                 en[i, j] = e[i, j]
             else:
                 en[i, j] = e[i, j] + flux / w[i]
