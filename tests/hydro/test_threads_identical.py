@@ -30,7 +30,7 @@ from shockfriction.hydro.api import prepare
 # cone shot's lines of 21 and 76 slave nodes and its 2 k nodes)
 slideline.PARALLEL_MIN_NODES = 1
 cycle.STAGED_PARALLEL_NODES = 0
-cycle.STAGED_PARALLEL_THREADS = 2  # and on every thread count above one (a run takes them from 4 threads)
+cycle.STAGED_PARALLEL_THREADS = 2  # and on every thread count above one (as a run does since the short spin)
 
 def state_arrays(sim):
     out = {k: v for k, v in vars(sim.state).items() if isinstance(v, np.ndarray)}

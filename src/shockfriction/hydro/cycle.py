@@ -68,11 +68,12 @@ class Interface(Protocol):
 # the parallel path.  On the 16-core device machine the cone shot (32 k nodes) ran 1.44 s with its passes serial
 # (from 131 072 nodes) and 0.89 s with them parallel on 16 threads, 1.28 / 0.86 s on 8 (docs/theory/threads.md)
 STAGED_PARALLEL_NODES = 0
-# ... and from this many threads (with the slide lines' geometry, contact/build.py): on the 2-core development
-# machine (AMD EPYC VM, idle) the 3 us cone shot ran 8.32 s on 2 threads with these passes parallel and 6.77 s with
-# them serial (one thread: 9.37 s): below this count waking the threads for a pass of 32 k nodes costs more than
-# the pass (docs/theory/threads.md, "Few threads")
-STAGED_PARALLEL_THREADS = 4
+# ... and from this many threads (with the slide lines' geometry, contact/build.py).  With passive waiting 4: on the
+# 2-core machine waking the worker for each pass of 32 k nodes cost more than the pass; with the short spin
+# (threading_policy.SPIN_ROUNDS) the passes pay from 2 threads: the 1 us cone shot x1.46-1.49 (Coulomb) and x1.38
+# (thermoelastoplastic) on 2 threads with them parallel, x1.33-1.36 and x1.22 serial (docs/theory/threads.md,
+# "A short spin")
+STAGED_PARALLEL_THREADS = 2
 
 ENERGY_COLUMNS = ("t_s", "kinetic", "internal", "total", "boundary_work", "interface_work", "interface_heat",
                   "friction_work", "friction_heat", "column_heat", "contact_work", "contact_heat", "projection_work",
