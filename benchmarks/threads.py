@@ -27,6 +27,8 @@ median 2-thread/1-thread throughput ratio (target: never below 0.9).  Policies:
 * ``spin+governor``: libgomp's default waiting (spin 300000 rounds, then sleep) with the governor;
 * ``passive+governor``: no spin (``OMP_WAIT_POLICY=PASSIVE``: the policy before 0.4) with the governor;
 * ``spin100k+governor``: a spin ten times the policy's (``GOMP_SPINCOUNT`` 100000 rounds) with the governor;
+* ``spin-only``: the policy's short spin without the governor (what ``--size-sweep`` runs unless
+  ``--sweep-policy`` names another);
 * ``passive-only``: passive waiting without the governor;
 * ``libgomp-default``: libgomp's own default (spin 300000 rounds, then sleep), no governor: before the policy;
 * ``spin``: ``OMP_WAIT_POLICY=ACTIVE`` (workers never sleep), no governor;
@@ -53,6 +55,7 @@ POLICIES = {
     "spin+governor": {"GOMP_SPINCOUNT": "300000"},
     "passive+governor": {"OMP_WAIT_POLICY": "PASSIVE"},
     "spin100k+governor": {"GOMP_SPINCOUNT": "100000"},
+    "spin-only": {"_GOVERNOR": "0"},
     "passive-only": {"OMP_WAIT_POLICY": "PASSIVE", "_GOVERNOR": "0"},
     "libgomp-default": {"GOMP_SPINCOUNT": "300000", "_GOVERNOR": "0"},
     "spin": {"OMP_WAIT_POLICY": "ACTIVE", "_GOVERNOR": "0"},
@@ -266,6 +269,8 @@ def main() -> None:
     ap.add_argument("--cycles", type=int, default=60, help="--policies: cycles per timing")
     ap.add_argument("--policies", default=None, help="compare waiting policies, 2 threads against 1, idle and busy")
     ap.add_argument("--size-sweep", action="store_true", help="2/1 ratio against the mesh size, no busy process")
+    ap.add_argument("--sweep-policy", default="spin-only", choices=sorted(POLICIES),
+                    help="--size-sweep: the waiting policy (default: the policy's short spin, no governor)")
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--governor-child", default="1", help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -278,7 +283,7 @@ def main() -> None:
     print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     if args.size_sweep:
         for n in (20, 40, 60, 80, 100, 140, 200):
-            r = run_child(POLICIES["passive-only"], n, max(args.cycles, int(args.cycles * (200 / n) ** 2 / 4)),
+            r = run_child(POLICIES[args.sweep_policy], n, max(args.cycles, int(args.cycles * (200 / n) ** 2 / 4)),
                           args.repeat)
             print(f"{n:4d} x {n:<4d} ({n * n:6d} cells): 2/1 threads = {r['ratio']:.2f} "
                   f"(min {r['min_ratio']:.2f}; 1 thread {r['one']:.3e} zone-cycles/s)", flush=True)

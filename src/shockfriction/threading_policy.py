@@ -22,8 +22,9 @@ parallel (prange) kernels on n threads, 0 = automatic.  This module decides how 
   next probe: when other jobs take the cores, the run falls back to one thread instead of
   collapsing, and takes the threads back when they free up.
 * **Size.** With ``threads = 0`` a mesh below :data:`MIN_PARALLEL_CELLS` cells runs the serial
-  kernels: the fixed cost of the parallel regions (waking the workers, four or five regions per
-  cycle) exceeds what a second thread saves there (2 threads ran at 0.32 of 1 at 400 cells).
+  kernels: the fixed cost of the parallel regions (three per cycle) exceeds what a second thread
+  saves there (with the short spin, idle 2-core machine: 2 threads at 0.92-0.95 of 1 at 400 cells,
+  x1.20-1.48 at 1600; with passive waiting 0.26 and 0.76).
   An explicit count n > 1 is obeyed whatever the size (the parallel kernels' tests run on
   small meshes).
 
@@ -39,7 +40,7 @@ import statistics
 import time
 
 #: below this many cells ``threads = 0`` runs the serial kernels (measured: benchmarks/threads.py --sizes)
-MIN_PARALLEL_CELLS = 4000
+MIN_PARALLEL_CELLS = 1600
 
 #: libgomp's spin before an idle worker sleeps (rounds; libgomp counts about 1e5 per millisecond): measured with
 #: benchmarks/threads.py --policies (docs/theory/threads.md, "A short spin")
