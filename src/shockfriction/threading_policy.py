@@ -46,9 +46,6 @@ MIN_PARALLEL_CELLS = 1600
 #: benchmarks/threads.py --policies (docs/theory/threads.md, "A short spin")
 SPIN_ROUNDS = 10000
 
-#: environment set (unless the user set it, or set OMP_WAIT_POLICY) before numba's threading layer starts
-SHORT_SPIN = {"GOMP_SPINCOUNT": str(SPIN_ROUNDS), "KMP_BLOCKTIME": "0"}
-
 
 def threading_layer_started() -> bool:
     """True once numba has started its threading layer (the environment is read then, not later)."""
@@ -60,12 +57,13 @@ def threading_layer_started() -> bool:
 
 
 def set_short_spin() -> bool:
-    """Put :data:`SHORT_SPIN` in the environment where the user left it unset (no ``GOMP_SPINCOUNT``
-    is set where the user chose ``OMP_WAIT_POLICY``).  Returns False when numba's threading layer
-    has already started, so that the setting comes too late for this process."""
+    """Put ``GOMP_SPINCOUNT`` = :data:`SPIN_ROUNDS` and ``KMP_BLOCKTIME=0`` in the environment where
+    the user left them unset (no ``GOMP_SPINCOUNT`` where the user chose ``OMP_WAIT_POLICY``).
+    Returns False when numba's threading layer has already started, so that the setting comes too
+    late for this process."""
     if "OMP_WAIT_POLICY" not in os.environ:
-        os.environ.setdefault("GOMP_SPINCOUNT", SHORT_SPIN["GOMP_SPINCOUNT"])
-    os.environ.setdefault("KMP_BLOCKTIME", SHORT_SPIN["KMP_BLOCKTIME"])
+        os.environ.setdefault("GOMP_SPINCOUNT", str(SPIN_ROUNDS))
+    os.environ.setdefault("KMP_BLOCKTIME", "0")
     return not threading_layer_started()
 
 

@@ -1512,9 +1512,12 @@ class ViscoplasticColumns:
         """Solid shear stress per cell (Pa), (n_columns, n_cells)."""
         return (self.Gs * self.ge).T.copy()
 
+    def _solidus_enthalpy(self) -> np.ndarray:
+        """rho c (T_m - T0) (J/m^3) of each column, at its melting temperature of the last step."""
+        return self.rho_c * (self.TF - self.T0)
+
     def melt_fraction(self) -> np.ndarray:
-        es = self.rho_c * (self.TF - self.T0)  # each column's melting temperature at its last step
-        return np.clip((self.e - es) / self.rho_L, 0.0, 1.0)
+        return np.clip((self.e - self._solidus_enthalpy()) / self.rho_L, 0.0, 1.0)
 
     def heat_stored(self) -> np.ndarray:
         """Enthalpy per unit area (J/m^2): sensible + latent."""
@@ -1529,7 +1532,7 @@ class ViscoplasticColumns:
 
     def latent_stored(self) -> np.ndarray:
         # (the books call this every step: without a node above its solidus it is zero, without the full pass)
-        if not np.any(self.e.max(axis=0) > self.rho_c * (self.TF - self.T0)):
+        if not np.any(self.e.max(axis=0) > self._solidus_enthalpy()):
             return np.zeros(self.n_columns)
         return self.rho_L * (self.weights @ self.melt_fraction())
 
