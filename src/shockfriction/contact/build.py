@@ -216,13 +216,13 @@ def interface_lines(simulation) -> list:
 
 
 def write_interface_outputs(simulation, out_dir, writer=None) -> list:
-    """Close the slide lines' last record windows; finish ``interface.h5`` (and ``columns.h5``) and
-    draw the maps in ``out_dir``.  ``writer``: the run's :class:`~shockfriction.io.records.RecordWriter`
+    """Close the slide lines' last record windows; finish ``interface.h5`` (and ``columns.h5``), then make the
+    maps, profiles and CSV tables in ``out_dir`` (:func:`shockfriction.io.products.make_products`: in up to the
+    run's thread count of worker processes).  ``writer``: the run's :class:`~shockfriction.io.records.RecordWriter`
     (one is made when None).  Does nothing when the simulation has no slide line.  Returns the paths written.
     """
-    from shockfriction.io.interface import read_interface
+    from shockfriction.io.products import make_products
     from shockfriction.io.records import RecordWriter
-    from shockfriction.plot.interface import plot_interface
 
     lines = interface_lines(simulation)
     if not lines:
@@ -233,11 +233,5 @@ def write_interface_outputs(simulation, out_dir, writer=None) -> list:
     if writer is None:
         writer = RecordWriter(out_dir, lines, simulation.state.geometry_factor)
     writer.close()
-    h5 = writer.interface_path
-    written = [h5] + plot_interface(read_interface(h5), out_dir)
-    if writer.columns_path is not None:  # sub-grid friction: temperature map and column profiles
-        from shockfriction.plot.coupled import plot_columns, plot_subgrid_interface
-
-        written += [writer.columns_path] + plot_subgrid_interface(h5, out_dir)
-        written += plot_columns(writer.columns_path, out_dir)
-    return written
+    written = [writer.interface_path] + ([writer.columns_path] if writer.columns_path is not None else [])
+    return written + make_products(out_dir, simulation.threads)  # the cores the run was given

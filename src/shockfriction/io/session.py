@@ -196,10 +196,7 @@ class RunOutputs:
         self.probes_csv.close()
         if self.fields is not None:
             self.fields.close(self.sim)
-        write_interface_outputs(self.sim, self.out, self.records)  # slide-line records: interface.h5 + maps
-        from shockfriction.io.tables import write_record_tables
-
-        write_record_tables(self.out)  # interface.csv, columns.csv
+        write_interface_outputs(self.sim, self.out, self.records)  # interface.h5, columns.h5, maps, CSV tables
         sim = self.sim
         done = exc is None and sim.state.t >= sim.t_end * (1 - 1e-12)
         self.write_summary(completed=done)

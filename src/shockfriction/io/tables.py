@@ -89,8 +89,9 @@ def columns_frame(profiles: dict[str, dict[str, np.ndarray]]) -> pd.DataFrame:
     return pd.concat(frames, ignore_index=True)
 
 
-def write_record_tables(out_dir: str | Path) -> list[Path]:
-    """``interface.csv`` from ``interface.h5`` and ``columns.csv`` from ``columns.h5`` when present."""
+def write_record_tables(out_dir: str | Path, only: str | None = None) -> list[Path]:
+    """``interface.csv`` from ``interface.h5`` and ``columns.csv`` from ``columns.h5`` when present
+    (``only`` = "interface" or "columns": that one alone)."""
     from shockfriction.io.columns import read_columns
     from shockfriction.io.interface import read_interface
 
@@ -98,6 +99,8 @@ def write_record_tables(out_dir: str | Path) -> list[Path]:
     written = []
     for h5, csv, reader, frame in (("interface.h5", "interface.csv", read_interface, interface_frame),
                                    ("columns.h5", "columns.csv", read_columns, columns_frame)):
+        if only is not None and not h5.startswith(only):
+            continue
         if (out_dir / h5).is_file():
             frame(reader(out_dir / h5)).to_csv(out_dir / csv, index=False, float_format="%.10e")
             written.append(out_dir / csv)
