@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-import shockfriction.friction.subgrid.viscoplastic as vp
+from shockfriction.friction.subgrid import inertial_column
 from shockfriction.friction.subgrid.viscoplastic import SQRT3, ViscoplasticColumns, return_map
 
 
@@ -54,7 +54,7 @@ def test_return_map_matches_newton(eps, over, eta_dt):
 
 
 def run(ncol, threads, monkeypatch, steps=25, f=0.7):
-    monkeypatch.setattr(vp, "get_num_threads", lambda: threads)
+    monkeypatch.setattr(inertial_column, "get_num_threads", lambda: threads)
     c = ViscoplasticColumns(ncol, "Al5083-H111", beta_T=0.5, thickness=4e-6, n_cells=100, f=f, other="AISI321")
     v = np.linspace(50.0, 250.0, ncol)
     for _ in range(steps):

@@ -10,7 +10,7 @@ Per column (z = 0 the sliding surface), at the uniform stress s = |s(0)| of the 
 
 with the excess plastic and viscous work of the cells and the rest of tau [V]^n at the surface as the sources,
 coupled by Picard sweeps on the enthalpies that set G, Y and eta (the iteration of
-:func:`~shockfriction.friction.subgrid.viscoplastic._step_block`: the same predictor, secant at z = 0, Aitken in
+:func:`~shockfriction.friction.subgrid.inertial_column._inertial_block`: the same predictor, secant at z = 0, Aitken in
 the bulk, the same scalar solve and the same heat solve, so that both give the same answer to round-off).
 
 The layer has no velocity unknowns, so a column's step is a heat problem and a scalar: each column is gathered
@@ -105,7 +105,7 @@ def excess_step(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt
                 tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                 TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc):
     """Advance every column by dt (:func:`_excess_block`; arguments as
-    :func:`~shockfriction.friction.subgrid.viscoplastic.viscoplastic_step`): in parallel blocks of consecutive
+    :func:`~shockfriction.friction.subgrid.inertial_column.inertial_step`): in parallel blocks of consecutive
     columns where numba has more than one thread (the same bytes as one block: every column is stepped alone)."""
     nc = v.shape[1]
     threads = get_num_threads()
@@ -203,6 +203,73 @@ def _aitken_sums(en, Em, rb):
         anum += rb[i] * dr
         aden += dr * dr
     return anum, aden
+
+
+@njit(cache=True, error_model="numpy")
+def picard_converged(en, Em, tol):
+    """max_i |en_i - Em_i| <= tol: the heat solve's enthalpies against the sweep's material ones (the maximum as the
+    bits of non-negative floats: integer maxima vectorise)."""
+    mb = np.int64(0)
+    for i in range(en.size):
+        mb = max(mb, np.int64(f64_bits(abs(en[i] - Em[i]))))
+    return f64_from_bits(mb) <= tol
+
+
+@njit(cache=True, error_model="numpy")
+def next_iterate(pic, Em, en, rb, blo, bhi, xprev, rprev, omega, tol):
+    """The next sweep's material enthalpies Em (in place) from the heat solve's en: at z = 0 (where the Tresca branch
+    and the steepest softening act) a safeguarded secant on r(E) = e_heat(0; E) - E (the enthalpy, not T: T is flat
+    while the surface melts) within its bracket [blo, bhi]; in the bulk Picard with Aitken (Irons-Tuck) relaxation
+    omega, which damps the period-2 cycle of a melt front (rb: the last bulk residuals).  tol: the Picard tolerance
+    in J/m^3.  Returns the updated (blo, bhi, xprev, rprev, omega)."""
+    x = Em[0]
+    r = en[0] - x
+    if r > 0.0:
+        blo = max(blo, x)
+    else:
+        bhi = min(bhi, x)
+    if pic == 0:
+        xn = en[0]
+    else:
+        den = r - rprev
+        xn = x - r * (x - xprev) / den if den != 0.0 else en[0]
+    if bhi - blo <= 1e-3 * tol and abs(r) > tol:
+        # the bracket closed on a point that is not a root: it was built while the bulk below still moved
+        blo = -np.inf
+        bhi = np.inf
+        xn = x + omega * r
+    if not (blo < xn < bhi):
+        if math.isfinite(blo) and math.isfinite(bhi):
+            xn = 0.5 * (blo + bhi)
+        else:  # one-sided bracket: the plain Picard value lies on its open side
+            xn = en[0]
+    Em[0] = xn
+    if pic > 0:
+        anum, aden = _aitken_sums(en, Em, rb)
+        if aden > 0.0:
+            omega = min(max(-omega * anum / aden, 0.05), 1.0)
+    for i in range(1, en.size):
+        rr = en[i] - Em[i]
+        rb[i] = rr
+        Em[i] += omega * rr
+    return blo, bhi, x, r, omega
+
+
+@njit(cache=True, error_model="numpy")
+def commit_surface(energy, j, ts, vh, vp, v0m, q_in, q2, hout, dt, T2, oth, ts2):
+    """Book column j's step at its surface and ends (J/m^2): the friction work ts [V]^n dt, the interface heat
+    q_in dt, the column's work ts v(0) dt, the heat to the other body q2 and out of a held far end hout; and the
+    other body's temperatures at the interface temperature ts2 (:func:`other_body_response`)."""
+    energy[E_FRICTION, j] += ts * 0.5 * (vh + vp) * dt
+    energy[E_INTERFACE, j] += q_in * dt
+    energy[E_COLUMN_WORK, j] += ts * v0m * dt
+    energy[E_OTHER, j] += q2
+    energy[E_HEAT_OUT, j] += hout
+    n2 = T2.shape[0]
+    if n2 > 0:
+        T2[0, j] = ts2
+        for kk in range(1, n2):
+            T2[kk, j] = oth[0, kk, j] + oth[1, kk, j] * ts2
 
 
 @njit(cache=True, error_model="numpy", fastmath={"contract"})
@@ -311,9 +378,9 @@ def _heat_solid(e, en, Tout, src, w, cl, cu, rho_c, rho_L, T0, TF, al2, be2, fm,
 def _column_heat(e, en, Tout, src, w, cl, cu, dt, rho_c, rho_L, T0, TF, fixed_far, tol, max_iter, al2, be2,
                  fal2, fm, fd, fu, fr, fh, Tk, dT, lo, di, up, rhs, trial, dz, kap):
     """Backward Euler on one column's enthalpy (Newton in e', stopping at the kinks of T(e); then the
-    conservative update e' = e + (src + dt flux(T'))/w), as
-    :func:`~shockfriction.friction.subgrid.viscoplastic._heat_solve` does for many; cl[i], cu[i] = dt kappa/dz of
-    the cells below and above node i.  Where no node is on the melt plateau and al2 = fal2 the matrix is the
+    conservative update e' = e + (src + dt flux(T'))/w): the heat solve of both kernels (this one's and
+    :mod:`shockfriction.friction.subgrid.inertial_column`'s); cl[i], cu[i] = dt kappa/dz of the cells below and
+    above node i.  Where no node is on the melt plateau and al2 = fal2 the matrix is the
     precomputed factorisation (fm, fd, fu: :func:`_heat_factor`).  Fills en, Tout (T(en)) and Tk (T of the last
     Newton iterate); returns (heat out at a fixed far end, nan if not converged; q2 the heat to the other body)."""
     nn = e.size
@@ -431,7 +498,7 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
                   tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                   TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, j0, j1):
     """Advance the columns j0 <= j < j1 (unsigned) by dt, one at a time (see the module docstring; arrays and
-    outputs as :func:`~shockfriction.friction.subgrid.viscoplastic._step_block` with far_end = "excess").  A
+    outputs as :func:`~shockfriction.friction.subgrid.inertial_column._inertial_block` with far_end = "excess").  A
     column whose Picard iteration does not converge in max_iter sweeps is left as it was for the caller to redo
     where retry[j] (iters = -max_iter), else committed; one whose scalar or heat solve fails gets
     status NO_CONVERGENCE and is left as it was."""
@@ -446,7 +513,6 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
     htol, ptol = par[P_HEAT_TOL], par[P_PICARD_TOL]
     G0, T_F0 = p[I_G0], p[I_TF]
     V_R = par[P_V_R]
-    n2 = T2.shape[0]
     Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
     tresca = f * Ymax / SQRT3
@@ -626,48 +692,12 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
             if not math.isfinite(hout):
                 failed = True
                 break
-            # ---- Picard convergence on the enthalpies that set G, Y and eta
-            mb = np.int64(0)  # max |en - Em| as the bits of a non-negative float (vectorises)
-            for i in range(nn):
-                mb = max(mb, np.int64(f64_bits(abs(en[i] - Em[i]))))
-            dmx = f64_from_bits(mb)
+            # ---- Picard convergence on the enthalpies that set G, Y and eta; else the next sweep's
             iters[j] = pic + 1
-            if dmx <= ptol * rho_c:  # ptol in kelvin of sensible heat
+            if picard_converged(en, Em, ptol * rho_c):  # ptol in kelvin of sensible heat
                 fin = True
                 break
-            # z = 0: a safeguarded secant on r(E) = e_heat(0; E) - E
-            x = Em[0]
-            r = en[0] - x
-            if r > 0.0:
-                blo = max(blo, x)
-            else:
-                bhi = min(bhi, x)
-            if pic == 0:
-                xn = en[0]
-            else:
-                den = r - rprev
-                xn = x - r * (x - xprev) / den if den != 0.0 else en[0]
-            if bhi - blo <= 1e-3 * ptol * rho_c and abs(r) > ptol * rho_c:
-                blo = -np.inf
-                bhi = np.inf
-                xn = x + omega * r
-            if not (blo < xn < bhi):
-                if math.isfinite(blo) and math.isfinite(bhi):
-                    xn = 0.5 * (blo + bhi)
-                else:
-                    xn = en[0]
-            xprev = x
-            rprev = r
-            Em[0] = xn
-            # bulk: Picard with Aitken (Irons-Tuck) relaxation
-            if pic > 0:
-                anum, aden = _aitken_sums(en, Em, rb)
-                if aden > 0.0:
-                    omega = min(max(-omega * anum / aden, 0.05), 1.0)
-            for i in range(1, nn):
-                rr = en[i] - Em[i]
-                rb[i] = rr
-                Em[i] += omega * rr
+            blo, bhi, xprev, rprev, omega = next_iterate(pic, Em, en, rb, blo, bhi, xprev, rprev, omega, ptol * rho_c)
         if failed:
             status[j] = NO_CONVERGENCE
             for i in range(nn):
@@ -679,15 +709,7 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
             if retry[j]:
                 continue  # ... or left to the caller, which redoes it in sub-steps
         # ---- commit
-        energy[E_FRICTION, j] += ts * 0.5 * (vh + vp) * dt
-        energy[E_INTERFACE, j] += q_in[j] * dt
-        energy[E_COLUMN_WORK, j] += ts * v0m * dt
-        energy[E_OTHER, j] += q2fin
-        if n2 > 0:
-            T2[0, j] = ts2
-            for kk in range(1, n2):
-                T2[kk, j] = oth[0, kk, j] + oth[1, kk, j] * ts2
-        energy[E_HEAT_OUT, j] += hfin
+        commit_surface(energy, j, ts, vh, vp, v0m, q_in[j], q2fin, hfin, dt, T2, oth, ts2)
         # the reference's plastic strain increment at the step's stress, which every solid cell shares
         dref = _linear_increment(abs(ts), kref, href, eta_dt) / SQRT3
         eps_ref[j] += dref

@@ -36,17 +36,19 @@ the backward-Euler kernel over beta dt from the extrapolated state y + c (y - y_
 (:meth:`ViscoplasticColumns._bdf2_step`), for imposed slip (k = 0) on columns without melt; the first step of a
 run in sub-steps growing from dt/64; backward Euler where the ratio of steps exceeds 2, a column's last mean
 traction exceeds its new cap, a partner mass is given (k > 0, slide lines) or a column has melt
-(docs/theory/viscoplastic.md, "Time accuracy").  The kernel (:func:`_step_block`):
-mechanics by backward Euler, a Newton on the node velocities with an exact line search on the step's convex
-incremental energy; plastic return by backward Euler with implicit hardening (scalar convex Newton per cell); heat
-by backward Euler on the enthalpy with a conservative final update; mechanics and heat coupled by Picard
-iterations.  The schemes' dissipation (backward Euler's, and what BDF2's extrapolation adds or takes) is deposited
-as heat and booked (rows E_NUMERICAL: kinetic, E_SOFTENING: elastic), so the energy balance is exact.  A column that
-does not converge is redone on sub-steps (dt/2 ... dt/16); one that still fails raises.
-All 2D arrays are (n_nodes or n_cells, n_columns): the column index is innermost; the columns are independent
-and run in parallel blocks where numba has threads (:func:`viscoplastic_step`; cost: docs/theory/viscoplastic.md,
-"Cost").  The excess layer (no velocity unknowns: a heat problem and a scalar) has its own kernel, one column at a
-time on profiles stored column by column (:mod:`shockfriction.friction.subgrid.excess_layer`).
+(docs/theory/viscoplastic.md, "Time accuracy").  The kernel
+(:func:`~shockfriction.friction.subgrid.inertial_column._inertial_block`): mechanics by backward Euler, a Newton on
+the node velocities with an exact line search on the step's convex incremental energy, on a window of the column
+that holds its plastic cells (the linear far field condensed onto it); plastic return by backward Euler with
+implicit hardening (scalar convex Newton per cell); heat by backward Euler on the enthalpy with a conservative
+final update; mechanics and heat coupled by Picard iterations.  The schemes' dissipation (backward Euler's, and
+what BDF2's extrapolation adds or takes) is deposited as heat and booked (rows E_NUMERICAL: kinetic,
+E_SOFTENING: elastic), so the energy balance is exact.  A column that does not converge is redone on sub-steps
+(dt/2 ... dt/16); one that still fails raises.
+All 2D arrays are (n_nodes or n_cells, n_columns), stored column by column (each column contiguous); the columns
+are independent: each kernel steps one column at a time, in parallel blocks of columns where numba has threads
+(:mod:`shockfriction.friction.subgrid.inertial_column`; the excess layer, which has no velocity unknowns:
+:mod:`shockfriction.friction.subgrid.excess_layer`; cost: docs/theory/viscoplastic.md, "Cost").
 """
 
 from __future__ import annotations
@@ -54,21 +56,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import get_num_threads, njit, prange
+from numba import njit
 
-from shockfriction.materials.strength import (
-    I_BETA,
-    I_G,
-    I_G0,
-    I_H,
-    I_N,
-    I_TF,
-    I_XI,
-    I_Y0,
-    I_YMAX,
-    scg_melt_temperature,
-    scg_shear_ratio,
-)
+from shockfriction.materials.strength import scg_melt_temperature
 
 SQRT3 = math.sqrt(3.0)
 #: smallest melt fraction of a film cell in its viscosity eta_L/phi (a cell of the SCG solid whose G vanishes
@@ -112,13 +102,9 @@ R_GAS = 8.314462618
 (E_FRICTION, E_INTERFACE, E_COLUMN_WORK, E_PLASTIC, E_VISCOUS, E_SOFTENING, E_RADIATED, E_HEAT_OUT,
  E_NUMERICAL, E_OTHER) = range(10)
 N_ENERGY = 10
-# planes of the kernel's scratch block (N_WORK, n_nodes + 1, n_columns)
-(W_TIT, W_EMAT, W_TMAT, W_PHM, W_VN, W_LO, W_DI, W_UP, W_RHS, W_S, W_SRC, W_EN, W_RBULK, W_TK, W_DT, W_PHC, W_G,
- W_KF, W_ETA, W_SOLD, W_YH, W_KC, W_DGP, W_SNEW, W_GDM, W_VT) = range(26)
-N_WORK = 26
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def liquid_viscosity(T, eta_F, E_R, T_F, T_m=0.0, pV_R=0.0):
     """Melt viscosity eta_L = eta_F exp(E_R (1/T - 1/T_F) + p V*/(R T)) at T >= T_m (eta_F at the ambient melting
     point T_F; T_m the melting temperature at the pressure p, default T_F; pV_R = p V*/R in kelvin, the activation
@@ -127,7 +113,7 @@ def liquid_viscosity(T, eta_F, E_R, T_F, T_m=0.0, pV_R=0.0):
     return eta_F * math.exp(E_R * (1.0 / T - 1.0 / T_F) + pV_R / T)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def temperature_of(e, rho_c, rho_L, T0, T_F):
     """T(e) of the enthalpy e = rho c (T - T0) + rho L phi; returns (T, dT/de, phi)."""
     es = rho_c * (T_F - T0)
@@ -147,8 +133,8 @@ def temperatures_of(e, rho_c, rho_L, T0, TF, out, slope):
             out[i, j], slope[i, j], _ = temperature_of(e[i, j], rho_c, rho_L, T0, TF[j])
 
 
-@njit(cache=True)
-def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax):
+@njit(cache=True, error_model="numpy")
+def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0):
     """Plastic increment x = d gamma_p >= 0 of |s_tr| - (G + eta_vp/dt) x - Y(eps + x/sqrt3) k_fac = 0,
     k_fac = (G/G0)/sqrt(3); returns (x, d|s'|/d|s_tr|).  The left side is convex and decreasing in x,
     so Newton from x = 0 climbs monotonically to the root (no overshoot).  ``y_start`` = min(Ymax, Y0 (1 + beta
@@ -157,7 +143,9 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax):
 
     Cost (docs/theory/viscoplastic.md, "Cost"): the first Newton iterate is the closed-form linear return with the
     hardening frozen at y_start (no pow); a saturated cell (y_start = Ymax) stops there, exactly; otherwise each
-    correction costs one pow, the hardening slope coming from Y itself, dY/d eps = n beta Y/(1 + beta eps)."""
+    correction costs one pow, the hardening slope coming from Y itself, dY/d eps = n beta Y/(1 + beta eps).
+    ``x0`` >= 0: the first iterate instead (a guess from the same cell's last return within the step; Newton from
+    either side of the root of a convex decreasing function lands left of it in one step, then climbs)."""
     if G <= 0.0:
         return 0.0, 0.0
     k = y_start * k_fac
@@ -169,7 +157,8 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax):
     nbk = n * beta * k_fac / SQRT3
     hb = 1.0 + beta * eps
     dk = y_start * nbk / hb
-    x = (s_abs - k) / (c + dk)
+    x = (s_abs - k) / (c + dk) if x0 < 0.0 else x0
+    last = math.inf
     for _ in range(100):
         hb = 1.0 + beta * (eps + x / SQRT3)
         y = Y0 * hb ** n
@@ -181,34 +170,17 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax):
             dk = y * nbk / hb
         dx = (s_abs - c * x - k) / (c + dk)
         x += dx
-        if abs(dx) <= 1e-15 * x:
+        if abs(dx) <= 1e-15 * x or abs(dx) >= last:  # converged, or stalled at the round-off of the residual
             break
+        last = abs(dx)
     return x, (eta_dt + dk) / (c + dk)
 
 
-@njit(cache=True)
-def _thomas_masked(lo, di, up, rhs, act, nn, j0, j1):
-    """Solve the tridiagonal systems (rows i, columns j innermost) in place into rhs for the columns j0 <= j < j1
-    with act[j]."""
-    for i in range(1, nn):
-        for j in range(j0, j1):
-            if act[j]:
-                m = lo[i, j] / di[i - 1, j]
-                di[i, j] -= m * up[i - 1, j]
-                rhs[i, j] -= m * rhs[i - 1, j]
-    for j in range(j0, j1):
-        if act[j]:
-            rhs[nn - 1, j] /= di[nn - 1, j]
-    for i in range(nn - 2, -1, -1):
-        for j in range(j0, j1):
-            if act[j]:
-                rhs[i, j] = (rhs[i, j] - up[i, j] * rhs[i + 1, j]) / di[i, j]
-
-
-@njit(cache=True)
-def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta, n, Ymax, eta_vp, th):
+@njit(cache=True, error_model="numpy")
+def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta, n, Ymax, eta_vp, th, x0=-1.0):
     """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of one cell
-    (dv, dvn = v_c - v_{c+1} at the old and new velocities; the other arguments the cell's values).
+    (dv, dvn = v_c - v_{c+1} at the old and new velocities; the other arguments the cell's values; x0 a guess of
+    the plastic increment |d gamma_p| for :func:`return_map`, < 0: none).
 
     th = 1: backward Euler, what the kernel uses (1/2 would be the implicit midpoint); gd and S are the
     th-weighted strain rate and stress that enter the momentum balance."""
@@ -219,585 +191,12 @@ def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta,
     s_tr = g * (gec + dt * gd)
     if abs(s_tr) <= yhc * kfc:  # elastic: return_map's own first test, here where it is inlined into the pass
         return gd, s_tr, 0.0, (1.0 - th) * soldc + th * s_tr + etac * gd, (th * g * dt + etac) * th / dzc
-    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, epsc, yhc, kfc, Y0, beta, n, Ymax)
+    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, epsc, yhc, kfc, Y0, beta, n, Ymax, x0)
     sg = 1.0 if s_tr >= 0.0 else -1.0
     snew = s_tr - sg * g * x
     S = (1.0 - th) * soldc + th * snew + etac * gd
     K = (th * dsds * g * dt + etac) * th / dzc
     return gd, snew, sg * x, S, K
-
-
-@njit(cache=True)
-def _cell_pass(v, vt, mask, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S, Kc, npl,
-               j0, j1):
-    """Cell stresses S[c + 1] and stiffnesses Kc[c] at the trial velocities vt, for the columns with mask[j];
-    npl[j]: the number of its solid cells that flow plastically there (0: the column's cells are linear)."""
-    M, nc = G.shape
-    for j in range(j0, j1):
-        if mask[j]:
-            npl[j] = 0
-    for c in range(M):
-        for j in range(j0, j1):
-            if mask[j]:
-                gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vt[c, j] - vt[c + 1, j], dz[c], dt, G[c, j],
-                                                ge[c, j], eps[c, j], yh[c, j], eta[c, j], kf[c, j], sold[c, j], Y0,
-                                                beta_h, n_h, Ymax, eta_vp, th)
-                S[c + 1, j] = Sm
-                Kc[c, j] = K
-                if dg != 0.0 and G[c, j] > 0.0:
-                    npl[j] += 1
-
-
-@njit(cache=True)
-def _slope(j, vt, v, d, S, mass, dt, stick, k, v_free, ts, impedance, Zc):
-    """g = sum_i d_i R_i of column j at the trial velocities vt = vn + a d (rows with a Dirichlet condition
-    left out): the derivative of the step's convex incremental energy along the Newton direction d."""
-    nn = vt.shape[0]
-    M = nn - 1
-    g = 0.0
-    if not (stick and k <= 0.0):
-        S0 = (v_free - vt[0, j]) / k if stick else ts
-        g += d[0, j] * (mass[0] * (vt[0, j] - v[0, j]) / dt - S0 + S[1, j])
-    for i in range(1, M):
-        g += d[i, j] * (mass[i] * (vt[i, j] - v[i, j]) / dt - S[i, j] + S[i + 1, j])
-    if impedance:
-        g += d[M, j] * (mass[M] * (vt[M, j] - v[M, j]) / dt - S[M, j] + Zc * vt[M, j])
-    return g
-
-
-#: columns from which :func:`viscoplastic_step` runs in parallel blocks when numba has more than one thread
-PARALLEL_MIN_COLUMNS = 16
-
-
-def viscoplastic_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                      TF, v_far, T2, c2, a2, oth):
-    """Advance every column by dt (:func:`_step_block` on all columns).  The columns are independent (every
-    output, iteration count and branch is per column): with more than one numba thread and at least
-    ``PARALLEL_MIN_COLUMNS`` columns they run in parallel blocks of consecutive columns
-    (:func:`_step_parallel`), the same bytes as one block (tests/subgrid/test_viscoplastic_cost.py)."""
-    nc = v.shape[1]
-    threads = get_num_threads()  # here, in Python: numba's count inside a kernel would stop its caching
-    if threads > 1 and nc >= PARALLEL_MIN_COLUMNS:
-        _step_parallel(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                       tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                       TF, v_far, T2, c2, a2, oth, min(threads * 4, nc))
-        return 0
-    return _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                       tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                       TF, v_far, T2, c2, a2, oth, np.uint64(0), np.uint64(nc))
-
-
-@njit(cache=True, parallel=True)
-def _step_parallel(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                   tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                   TF, v_far, T2, c2, a2, oth, nblocks):
-    """:func:`_step_block` over ``nblocks`` blocks of consecutive columns in parallel (the scratch ``work`` and
-    ``oth`` are per column: the blocks touch disjoint columns of every array)."""
-    nc = v.shape[1]
-    for b in prange(nblocks):
-        _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                    tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                    TF, v_far, T2, c2, a2, oth, np.uint64(b * nc // nblocks),
-                    np.uint64((b + 1) * nc // nblocks))
-
-
-@njit(cache=True)
-def _step_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, work, retry,
-                TF, v_far, T2, c2, a2, oth, j0, j1):
-    """Advance the columns j0 <= j < j1 by dt (j0, j1 unsigned: the column index of every loop is then known to be
-    non-negative, so numba indexes without the negative-index wrap, which costs 15-20 % of the step with signed
-    bounds) (state arrays updated in place; see the module docstring).
-
-    State: v (nn, nc) velocity, ge (M, nc) elastic shear strain, Gs (M, nc) modulus of the stored stress
-    (s = Gs ge), eps (M, nc) equivalent plastic strain, e (nn, nc) enthalpy density rel. T0, T (nn, nc).
-    Per column inputs: F_N normal stress, v_free = [V*], v_prev = [V]^{n-1/2}, k = S dt (1/m_s + 1/m_g),
-    tau_cap = min(mu0 F_N, tau_stick).  Outputs: tau = |s(0)|, v_half = [V]^{n+1/2}, v_local = slip at the
-    surface (V - v(0), midpoint), q_in = beta_T tau v_local, film = molten thickness (m), iters (Picard),
-    status, energy (N_ENERGY, nc) accumulated.  de, de2 (nn, nc): the enthalpy changes of the last two steps
-    (updated); the first Picard iterate is the extrapolation E = e + a1 de + a2 de2, pw = (a1, a2, a1 of the linear
-    one) from predictor_weights (zeros: none), linear where the history is not smooth (see SMOOTH); it moves the
-    answer within the Picard tolerance only.  work: scratch (N_WORK, nn + 1, nc), contents irrelevant.
-    retry (nc,) bool: a column whose Picard iteration does not converge is left as it was (state, energy, de, de2
-    unchanged; outputs of its last sweep; iters = -max_iter) for the caller to redo in sub-steps; without retry it
-    is committed (its energy balance is exact) with iters = -max_iter.
-    TF (nc,): each column's melting temperature this step (T_m(sigma_n), :func:`melt_temperature`).
-    v_far (nc,): velocity of the far end z = h relative to the hydro node where it is held (far_end = "held";
-    the hydro's own shear of the layer, docs/theory/viscoplastic.md, "Coupled closure"); 0 stand-alone.
-    T2 (n2, nc), c2 (n2,), a2 (n2 - 1,): the other body's thermal column (two-sided heat; n2 = 0: none, the
-    fixed share beta_T): temperatures (node 0 the interface, continuous with T[0]), heat capacities per area
-    (J/m^2/K) and conductances kappa2/dy (W/m^2/K); oth (2, n2, nc) scratch.
-    """
-    nn, nc = v.shape
-    M = nn - 1
-    rho, cth, kap, L, T0 = par[P_RHO], par[P_C], par[P_KAPPA], par[P_L], par[P_T0]
-    rho_c, rho_L = rho * cth, rho * L
-    eta_vp, eta_F, E_R = par[P_ETA_VP], par[P_ETA_F], par[P_E_R]
-    beta_T, beta_Q, f = par[P_BETA_T], par[P_BETA_Q], par[P_F]
-    inertia = par[P_INERTIA] > 0.5
-    held = math.isinf(par[P_Z])  # far end held (at v_far) also with inertia (far_end = "held")
-    imped = inertia and not held  # impedance far end
-    th = 1.0  # backward Euler (L-stable: no ringing at c_s dt/dz >> 1); its dissipation is turned into heat
-    T_far = par[P_T_FAR]  # nan: insulated far end
-    fixed_far = math.isfinite(T_far)
-    mtol, htol, ptol = par[P_MECH_TOL], par[P_HEAT_TOL], par[P_PICARD_TOL]
-    max_newton = int(par[P_MAX_NEWTON])
-    G0, T_F0 = p[I_G0], p[I_TF]
-    V_R = par[P_V_R]  # activation volume of the melt viscosity over R (K/Pa)
-    n2 = T2.shape[0]
-    Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
-    g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
-    tresca = f * Ymax / SQRT3
-    mass = np.empty(nn)
-    for i in range(nn):
-        mass[i] = rho * w[i] if inertia else 0.0
-    # work arrays: planes of the scratch block (no allocation per step: fresh pages cost a fault each)
-    Tit, Emat, Tmat, phm, vn, lo, di, up, rhs, S, src, en, rbulk, Tk, dT = (
-        work[W_TIT, :nn], work[W_EMAT, :nn], work[W_TMAT, :nn], work[W_PHM, :nn], work[W_VN, :nn], work[W_LO, :nn],
-        work[W_DI, :nn], work[W_UP, :nn], work[W_RHS, :nn], work[W_S], work[W_SRC, :nn], work[W_EN, :nn],
-        work[W_RBULK, :nn], work[W_TK, :nn], work[W_DT, :nn])
-    phc, G, kf, eta, sold, yh, Kc, dgp, snew, gdm = (
-        work[W_PHC, :M], work[W_G, :M], work[W_KF, :M], work[W_ETA, :M], work[W_SOLD, :M], work[W_YH, :M],
-        work[W_KC, :M], work[W_DGP, :M], work[W_SNEW, :M], work[W_GDM, :M])
-    # Tit: temperatures of the last heat solve; Emat: enthalpies that set G, Y, eta_L, the melt fractions and the
-    # Tresca branch (Picard iterate); phc: melt fraction of each cell (the sub-cell film) as used by the mechanics;
-    # yh: hardening at the start of the step; S[0] surface traction, S[c+1] cell c midpoint stress, S[nn] far end;
-    # rbulk: last bulk Picard residual e_heat - E.  phc, dgp, snew, gdm, rbulk are written before they are read.
-    b1 = np.empty(nc)
-    b2 = np.empty(nc)
-    for j in range(j0, j1):
-        b1[j] = 0.0
-        b2[j] = 0.0
-    for i in range(nn):
-        for j in range(j0, j1):
-            b1[j] = max(b1[j], abs(de[i, j]))
-            b2[j] = max(b2[j], abs(de[i, j] - de2[i, j]))
-    for j in range(j0, j1):  # quadratic predictor on a smooth history, else linear
-        quad = b2[j] <= SMOOTH * b1[j]
-        b1[j] = pw[0] if quad else pw[2]
-        b2[j] = pw[1] if quad else 0.0
-    for i in range(nn):
-        for j in range(j0, j1):
-            Tit[i, j] = T[i, j]
-            Tmat[i, j] = T[i, j]
-            Emat[i, j] = e[i, j] + b1[j] * de[i, j] + b2[j] * de2[i, j]
-            en[i, j] = e[i, j]
-            vn[i, j] = v[i, j]
-    hfin = np.zeros(nc)  # heat out of each column's last heat solve
-    al2 = np.zeros(nc)  # the other body: heat taken from node 0 over the step, al2 T'(0) + be2
-    be2 = np.zeros(nc)
-    q2 = np.zeros(nc)
-    q2fin = np.zeros(nc)
-    ts2 = np.zeros(nc)
-    other_body_response(T2, c2, a2, dt, oth, al2, be2, j0, j1)
-    fin = np.zeros(nc, np.bool_)  # Picard converged
-    for c in range(M):
-        for j in range(j0, j1):
-            sold[c, j] = Gs[c, j] * ge[c, j]
-            yh[c, j] = min(Ymax, Y0 * (1.0 + beta_h * eps[c, j]) ** n_h)
-    act = np.ones(nc, np.bool_)
-    stick = np.zeros(nc, np.bool_)
-    sgn = np.empty(nc)
-    cap = np.empty(nc)
-    ts = np.zeros(nc)
-    Zc = np.zeros(nc)
-    dirn = np.ones(nc)  # slip branch: +1 the slider drags the surface, -1 the surface overtakes the slider
-    nsw = np.zeros(nc, np.int64)
-    blo = np.full(nc, -np.inf)  # bracket of the interface temperature root
-    bhi = np.full(nc, np.inf)
-    xprev = np.zeros(nc)
-    rprev = np.zeros(nc)
-    omega = np.ones(nc)  # Aitken relaxation factor of the bulk Picard update
-    ls_a = np.zeros(nc)  # line search per column: step, bracket [lo, hi], slopes at 0, lo, hi
-    ls_lo = np.zeros(nc)
-    ls_hi = np.zeros(nc)
-    ls_g0 = np.zeros(nc)
-    ls_glo = np.zeros(nc)
-    ls_ghi = np.zeros(nc)
-    ls_side = np.zeros(nc, np.int64)
-    lsm = np.zeros(nc, np.bool_)
-    npl = np.zeros(nc, np.int64)  # plastic cells at the last cell pass of each column, and at vn
-    plv = np.zeros(nc, np.int64)
-    vt = work[W_VT, :nn]  # trial velocities of the line search
-    dmx = np.empty(nc)  # per-column maxima and sums (the loops run over the nodes, columns innermost)
-    anum = np.empty(nc)
-    aden = np.empty(nc)
-    for j in range(j0, j1):
-        status[j] = OK
-        iters[j] = 0
-        sgn[j] = 1.0 if v_free[j] >= 0.0 else -1.0
-        if not (math.isfinite(F_N[j]) and math.isfinite(v_free[j]) and math.isfinite(v_prev[j])
-                and math.isfinite(k[j]) and tau_cap[j] >= 0.0):
-            status[j] = BAD_INPUT
-    for pic in range(max_iter):
-        # ---- material state at the trial enthalpies (columns still iterating: a converged column keeps its
-        # last sweep, so that its answer does not depend on the other columns)
-        for j in range(j0, j1):
-            act[j] = status[j] == OK and not fin[j]
-        for i in range(nn):
-            for j in range(j0, j1):
-                if act[j]:
-                    Tmat[i, j], _, phm[i, j] = temperature_of(Emat[i, j], rho_c, rho_L, T0, TF[j])
-        for c in range(M):
-            for j in range(j0, j1):
-                if not act[j]:
-                    continue
-                Tc = 0.5 * (Tmat[c, j] + Tmat[c + 1, j])
-                ph = 0.5 * (phm[c, j] + phm[c + 1, j])
-                phc[c, j] = ph
-                r = scg_shear_ratio(F_N[j], Tc, g_p, h_p, xi, TF[j]) if ph <= 0.0 else 0.0
-                G[c, j] = G0 * r
-                kf[c, j] = r / SQRT3
-                # a cell with melt carries it as a liquid layer ph dz in series with rigid solid (sub-cell film)
-                eta[c, j] = liquid_viscosity(Tc, eta_F, E_R, T_F0, TF[j], max(F_N[j], 0.0) * V_R) / max(ph, PHI_MIN) \
-                    if r <= 0.0 else 0.0
-        for j in range(j0, j1):
-            if not act[j]:
-                continue
-            Zc[j] = math.sqrt(rho * G[M - 1, j])  # far-end impedance rho c_s with c_s^2 = G(p, T(h))/rho
-            cp = tau_cap[j]
-            if f >= 0.0:
-                t = tresca * scg_shear_ratio(F_N[j], Tmat[0, j], g_p, h_p, xi, TF[j])
-                cp = min(cp, t)
-            cap[j] = cp
-        # ---- mechanics: Newton on the node velocities with an exact line search (the backward-Euler step is the
-        # minimum of a strongly convex function: the line search makes the Newton globally convergent also in the
-        # rate-independent limit, where the consistent tangent jumps from 1 to ~0 at the plastic front), slip/stick
-        # switch at z = 0
-        for j in range(j0, j1):
-            nsw[j] = 0
-        fresh = False  # S[1:nn] and Kc hold the cell states at vn
-        for it in range(max_newton):
-            if not fresh:
-                _cell_pass(v, vn, act, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S,
-                           Kc, npl, j0, j1)
-            for j in range(j0, j1):
-                if not act[j]:
-                    continue
-                # surface row
-                if stick[j]:
-                    if k[j] > 0.0:
-                        ts[j] = (v_free[j] - vn[0, j]) / k[j]
-                        S[0, j] = ts[j]
-                        di[0, j] = mass[0] / dt + Kc[0, j] + 1.0 / k[j]
-                        rhs[0, j] = -(mass[0] * (vn[0, j] - v[0, j]) / dt - S[0, j] + S[1, j])
-                    else:
-                        di[0, j] = 1.0
-                        rhs[0, j] = -(vn[0, j] - v_free[j])
-                    up[0, j] = 0.0 if k[j] <= 0.0 else -Kc[0, j]
-                else:
-                    ts[j] = dirn[j] * sgn[j] * cap[j]
-                    S[0, j] = ts[j]
-                    di[0, j] = mass[0] / dt + Kc[0, j]
-                    up[0, j] = -Kc[0, j]
-                    rhs[0, j] = -(mass[0] * (vn[0, j] - v[0, j]) / dt - S[0, j] + S[1, j])
-                lo[0, j] = 0.0
-            for i in range(1, M):
-                for j in range(j0, j1):
-                    if act[j]:
-                        lo[i, j] = -Kc[i - 1, j]
-                        up[i, j] = -Kc[i, j]
-                        di[i, j] = mass[i] / dt + Kc[i - 1, j] + Kc[i, j]
-                        rhs[i, j] = -(mass[i] * (vn[i, j] - v[i, j]) / dt - S[i, j] + S[i + 1, j])
-            for j in range(j0, j1):
-                if act[j]:
-                    up[M, j] = 0.0
-                    if inertia and not held:
-                        S[nn, j] = Zc[j] * ((1.0 - th) * v[M, j] + th * vn[M, j])
-                        lo[M, j] = -Kc[M - 1, j]
-                        di[M, j] = mass[M] / dt + Kc[M - 1, j] + th * Zc[j]
-                        rhs[M, j] = -(mass[M] * (vn[M, j] - v[M, j]) / dt - S[M, j] + S[nn, j])
-                    else:  # held at the hydro's velocity there (v_far), or at rest (quasi-static)
-                        lo[M, j] = 0.0
-                        di[M, j] = 1.0
-                        rhs[M, j] = (v_far[j] if held else 0.0) - vn[M, j]
-            _thomas_masked(lo, di, up, rhs, act, nn, j0, j1)
-            # line search on the slope g(a) = d . R(vn + a d), increasing in a (convexity): a = 1 unless it
-            # overshoots the minimum along d (g(1) > |g(0)|/4), then regula falsi (Illinois) on g
-            for j in range(j0, j1):
-                if act[j]:
-                    ls_g0[j] = _slope(j, vn, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], imped, Zc[j])
-                    ls_a[j] = 1.0
-                    ls_lo[j] = 0.0
-                    ls_glo[j] = ls_g0[j]
-                    ls_hi[j] = 1.0
-                    ls_side[j] = 0
-            for i in range(nn):
-                for j in range(j0, j1):
-                    if act[j]:
-                        vt[i, j] = vn[i, j] + rhs[i, j]
-            for j in range(j0, j1):
-                plv[j] = npl[j]  # plastic cells at vn
-            _cell_pass(v, vt, act, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S, Kc,
-                       npl, j0, j1)
-            for ls in range(12):
-                more = False
-                for j in range(j0, j1):
-                    lsm[j] = False
-                    if not act[j]:
-                        continue
-                    g = _slope(j, vt, v, rhs, S, mass, dt, stick[j], k[j], v_free[j], ts[j], imped, Zc[j])
-                    if ls == 0:
-                        ls_ghi[j] = g
-                    if not (ls_g0[j] < 0.0 and g > 0.25 * abs(ls_g0[j])) and not (ls > 0 and g < 0.0
-                                                                                 and g < -0.25 * abs(ls_g0[j])):
-                        continue  # accepted
-                    if ls == 11:
-                        continue
-                    if g > 0.0:  # Illinois: keep the bracket [lo, hi] with g(lo) < 0 < g(hi)
-                        ls_hi[j] = ls_a[j]
-                        ls_ghi[j] = g
-                        if ls_side[j] == 1:
-                            ls_glo[j] *= 0.5
-                        ls_side[j] = 1
-                    else:
-                        ls_lo[j] = ls_a[j]
-                        ls_glo[j] = g
-                        if ls_side[j] == -1:
-                            ls_ghi[j] *= 0.5
-                        ls_side[j] = -1
-                    den = ls_ghi[j] - ls_glo[j]
-                    a_new = (ls_lo[j] * ls_ghi[j] - ls_hi[j] * ls_glo[j]) / den if den > 0.0 else 0.5 * (
-                        ls_lo[j] + ls_hi[j])
-                    if not (ls_lo[j] < a_new < ls_hi[j]):
-                        a_new = 0.5 * (ls_lo[j] + ls_hi[j])
-                    ls_a[j] = a_new
-                    lsm[j] = True
-                    more = True
-                if not more:
-                    break
-                for i in range(nn):
-                    for j in range(j0, j1):
-                        if lsm[j]:
-                            vt[i, j] = vn[i, j] + ls_a[j] * rhs[i, j]
-                _cell_pass(v, vt, lsm, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax, eta_vp, th, S,
-                           Kc, npl, j0, j1)
-            fresh = True
-            for j in range(j0, j1):
-                dmx[j] = 0.0
-            for i in range(nn):
-                for j in range(j0, j1):
-                    if act[j]:
-                        dmx[j] = max(dmx[j], abs(vt[i, j] - vn[i, j]))
-                        vn[i, j] = vt[i, j]
-            any_act = False
-            for j in range(j0, j1):
-                if not act[j]:
-                    continue
-                # a full step (a = 1) on a column whose cells were linear (elastic or molten) at vn and at vn + d
-                # is exact: the momentum balance is linear there (fixed branch, fixed G, eta, Zc), so the step
-                # that verified it (d ~ round-off) is left out (docs/theory/viscoplastic.md, "Cost"); not after a
-                # step larger than the velocities' scale (from a wrong branch's excursion), whose round-off the
-                # verifying step refines
-                vsc = abs(v_free[j]) + abs(vn[0, j]) + 1e-3
-                if dmx[j] <= mtol * vsc or (plv[j] == 0 and npl[j] == 0 and ls_a[j] == 1.0 and dmx[j] <= vsc):
-                    # converged on this branch: is the branch right?  (friction opposes the local slip)
-                    vh = v_free[j] - ts[j] * k[j]
-                    if stick[j]:
-                        if k[j] <= 0.0:  # imposed slip: traction from the node balance
-                            S0 = mass[0] * (vn[0, j] - v[0, j]) / dt + S[1, j]
-                        else:
-                            S0 = (v_free[j] - vn[0, j]) / k[j]
-                        ts[j] = S0
-                        if abs(S0) > cap[j] * (1.0 + 1e-12) and nsw[j] < 8:
-                            stick[j] = False
-                            dirn[j] = 1.0 if sgn[j] * S0 > 0.0 else -1.0
-                            nsw[j] += 1
-                        else:
-                            act[j] = False
-                    elif dirn[j] * sgn[j] * (vn[0, j] - vh) > 0.0 and nsw[j] < 8:
-                        stick[j] = True
-                        nsw[j] += 1
-                    else:
-                        act[j] = False
-                if act[j]:
-                    any_act = True
-            if not any_act:
-                break
-        for j in range(j0, j1):
-            if act[j]:
-                status[j] = NO_CONVERGENCE
-        # ---- final cell states, heat sources
-        for j in range(j0, j1):
-            act[j] = status[j] == OK and not fin[j]
-        for i in range(nn):
-            for j in range(j0, j1):
-                src[i, j] = 0.0
-        for c in range(M):
-            for j in range(j0, j1):
-                if act[j]:
-                    gd, sn, dg, Sm, K = _cell_state(v[c, j] - v[c + 1, j], vn[c, j] - vn[c + 1, j], dz[c], dt, G[c, j],
-                                                    ge[c, j], eps[c, j], yh[c, j], eta[c, j], kf[c, j],
-                                                    sold[c, j], Y0, beta_h, n_h, Ymax, eta_vp, th)
-                    gdm[c, j] = gd
-                    S[c + 1, j] = Sm
-                    snew[c, j] = sn
-                    dgp[c, j] = dg
-                    ssol = (1.0 - th) * sold[c, j] + th * sn
-                    ge_new = sn / G[c, j] if G[c, j] > 0.0 else 0.0
-                    wp = ssol * dg * dz[c]
-                    wv = eta[c, j] * gd * gd * dt * dz[c]
-                    del_el = 0.5 * (G[c, j] * ge_new * ge_new - Gs[c, j] * ge[c, j] * ge[c, j]) * dz[c]
-                    wsoft = ssol * (ge_new - ge[c, j]) * dz[c] - del_el
-                    h = beta_Q * wp + wv + wsoft
-                    src[c, j] += 0.5 * h
-                    src[c + 1, j] += 0.5 * h
-        for i in range(nn):  # kinetic energy dissipated by backward Euler, m (v' - v)^2/2: heat at the node
-            for j in range(j0, j1):
-                if act[j]:
-                    dv = vn[i, j] - v[i, j]
-                    src[i, j] += 0.5 * mass[i] * dv * dv
-        for j in range(j0, j1):
-            if act[j]:
-                if stick[j] and k[j] <= 0.0:  # imposed slip: the traction that balances node 0
-                    ts[j] = mass[0] * (vn[0, j] - v[0, j]) / dt + S[1, j]
-                vh = v_free[j] - ts[j] * k[j]
-                vm = 0.5 * (vh + v_prev[j])
-                v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
-                v_half[j] = vh
-                v_local[j] = sgn[j] * (vm - v0m)
-                tau[j] = sgn[j] * ts[j]  # < 0 only while the surface overtakes the slider (rebound)
-                q_in[j] = beta_T * ts[j] * (vm - v0m)  # >= 0: the traction opposes the local slip
-                src[0, j] += q_in[j] * dt
-        # ---- heat: backward Euler on the enthalpy
-        hout = _heat_solve(e, en, Tit, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_far, T_far, act, htol, 100,
-                           Tk, dT, lo, di, up, rhs, al2, be2, q2, j0, j1)
-        for j in range(j0, j1):
-            if act[j]:
-                hfin[j] = hout[j]
-                q2fin[j] = q2[j]
-                ts2[j] = Tk[0, j]  # the interface temperature the other body's update takes (as q2 did)
-                if not math.isfinite(hout[j]):
-                    status[j] = NO_CONVERGENCE
-                    act[j] = False
-        # ---- Picard convergence on the temperatures that set G, Y and eta
-        for j in range(j0, j1):
-            dmx[j] = 0.0
-        for i in range(nn):
-            for j in range(j0, j1):
-                if act[j]:
-                    dmx[j] = max(dmx[j], abs(en[i, j] - Emat[i, j]))
-        done = True
-        for j in range(j0, j1):
-            if act[j]:
-                iters[j] = pic + 1
-                if dmx[j] > ptol * rho_c:  # ptol in kelvin of sensible heat
-                    done = False
-                else:
-                    fin[j] = True
-                    act[j] = False
-        if done:
-            break
-        # next material enthalpies: plain Picard in the column; at z = 0 (where the Tresca branch and the
-        # steepest softening act) a safeguarded secant on r(E) = e_heat(0; E) - E (the enthalpy, not T: T is flat
-        # while the surface melts)
-        for j in range(j0, j1):
-            if not act[j]:
-                continue
-            x = Emat[0, j]
-            r = en[0, j] - x
-            if r > 0.0:
-                blo[j] = max(blo[j], x)
-            else:
-                bhi[j] = min(bhi[j], x)
-            if pic == 0:
-                xn = en[0, j]
-            else:
-                den = r - rprev[j]
-                xn = x - r * (x - xprev[j]) / den if den != 0.0 else en[0, j]
-            if bhi[j] - blo[j] <= 1e-3 * ptol * rho_c and abs(r) > ptol * rho_c:
-                # the bracket closed on a point that is not a root: it was built while the bulk below still moved
-                blo[j] = -np.inf
-                bhi[j] = np.inf
-                xn = x + omega[j] * r
-            if not (blo[j] < xn < bhi[j]):
-                if math.isfinite(blo[j]) and math.isfinite(bhi[j]):
-                    xn = 0.5 * (blo[j] + bhi[j])
-                else:  # one-sided bracket: the plain Picard value lies on its open side
-                    xn = en[0, j]
-            xprev[j] = x
-            rprev[j] = r
-            Emat[0, j] = xn
-        # bulk: Picard with Aitken (Irons-Tuck) relaxation, which damps the period-2 cycle of a melt front
-        # (a node that melts makes the film above it softer, which cools it below the melt, and back)
-        if pic > 0:
-            for j in range(j0, j1):
-                anum[j] = 0.0
-                aden[j] = 0.0
-            for i in range(1, nn):
-                for j in range(j0, j1):
-                    if act[j]:
-                        dr = (en[i, j] - Emat[i, j]) - rbulk[i, j]
-                        anum[j] += rbulk[i, j] * dr
-                        aden[j] += dr * dr
-            for j in range(j0, j1):
-                if act[j] and aden[j] > 0.0:
-                    omega[j] = min(max(-omega[j] * anum[j] / aden[j], 0.05), 1.0)
-        for i in range(1, nn):
-            for j in range(j0, j1):
-                if act[j]:
-                    rr = en[i, j] - Emat[i, j]
-                    rbulk[i, j] = rr
-                    Emat[i, j] += omega[j] * rr
-    # ---- commit
-    for j in range(j0, j1):
-        if status[j] != OK:
-            for i in range(nn):
-                de[i, j] = 0.0
-                de2[i, j] = 0.0
-            continue
-        if not fin[j]:
-            iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is still exact) ...
-            if retry[j]:
-                continue  # ... or left to the caller, which redoes it in sub-steps
-        vh = v_half[j]
-        energy[E_FRICTION, j] += ts[j] * 0.5 * (vh + v_prev[j]) * dt
-        energy[E_INTERFACE, j] += q_in[j] * dt
-        v0m = (1.0 - th) * v[0, j] + th * vn[0, j]
-        energy[E_COLUMN_WORK, j] += ts[j] * v0m * dt
-        if inertia and not held:
-            vmm = (1.0 - th) * v[M, j] + th * vn[M, j]
-            energy[E_RADIATED, j] += Zc[j] * vmm * vmm * dt
-        elif vn[M, j] != 0.0:  # held end moving with the hydro's shear: its reaction's work leaves
-            S_far = S[M, j] - mass[M] * (vn[M, j] - v[M, j]) / dt
-            energy[E_RADIATED, j] += S_far * vn[M, j] * dt
-        energy[E_OTHER, j] += q2fin[j]
-        if n2 > 0:
-            T2[0, j] = ts2[j]
-            for kk in range(1, n2):
-                T2[kk, j] = oth[0, kk, j] + oth[1, kk, j] * ts2[j]
-        energy[E_HEAT_OUT, j] += hfin[j]
-        thick = 0.0
-        for i in range(nn):
-            dv = vn[i, j] - v[i, j]
-            energy[E_NUMERICAL, j] += 0.5 * mass[i] * dv * dv
-        for c in range(M):
-            sn = snew[c, j]
-            ssol = (1.0 - th) * sold[c, j] + th * sn
-            dg = dgp[c, j]
-            gd = gdm[c, j]
-            ge_new = sn / G[c, j] if G[c, j] > 0.0 else 0.0
-            del_el = 0.5 * (G[c, j] * ge_new * ge_new - Gs[c, j] * ge[c, j] * ge[c, j]) * dz[c]
-            energy[E_PLASTIC, j] += ssol * dg * dz[c]
-            energy[E_VISCOUS, j] += eta[c, j] * gd * gd * dt * dz[c]
-            energy[E_SOFTENING, j] += ssol * (ge_new - ge[c, j]) * dz[c] - del_el
-            if G[c, j] > 0.0:
-                eps[c, j] = eps[c, j] + abs(dg) / SQRT3
-            elif phc[c, j] >= 1.0:
-                eps[c, j] = 0.0  # a fully molten cell forgets its hardening
-            ge[c, j] = ge_new
-            Gs[c, j] = G[c, j]
-            if G[c, j] <= 0.0:
-                thick += min(phc[c, j], 1.0) * dz[c]
-        film[j] = thick
-        for i in range(nn):
-            v[i, j] = vn[i, j]
-            de2[i, j] = de[i, j]
-            de[i, j] = en[i, j] - e[i, j]
-            e[i, j] = en[i, j]
-            T[i, j] = Tit[i, j]
-    return 0
 
 
 @njit(cache=True)
@@ -888,140 +287,6 @@ def other_body_response(T2, c2, a2, dt, oth, al2, be2, j0, j1):
         else:
             al2[j] = c2[0]
             be2[j] = -c2[0] * T2[0, j]
-
-
-@njit(cache=True)
-def _heat_solve(e, en, Tout, src, w, dz, dt, kap, rho_c, rho_L, T0, TF, fixed_far, T_far, act, tol, max_iter,
-                Tk, dT, lo, di, up, rhs, al2, be2, q2, j0, j1):
-    """Backward Euler on the enthalpy, w_i (e'_i - e_i) = dt [kappa dT'/dz]_{i-1/2}^{i+1/2} + src_i (J/m^2), by
-    Newton in e' (dT/de = 0 in the mushy zone); then the conservative update e' = e + (src + dt flux(T'))/w from the
-    last iterate's temperatures, so that the discrete energy balance is exact.  Far end insulated, or held at T_far
-    (the heat leaving there is returned per column, J/m^2).  Node 0 also loses q2 = al2 T'(0) + be2 to the other
-    body's column (:func:`other_body_response`; al2 = be2 = 0 without).  TF (nc,): melting temperatures.  Fills en
-    (new enthalpy), Tout (T(en)) and q2; Tk, dT, lo, di, up, rhs (n_nodes, nc) are scratch."""
-    nn, nc = e.shape
-    M = nn - 1
-    trial = np.empty(nn)
-    r0 = np.zeros(nc)
-    live = act.copy()
-    exact = np.zeros(nc, np.bool_)
-    dmx = np.zeros(nc)
-    hout = np.zeros(nc)
-    for i in range(nn):
-        for j in range(j0, j1):
-            if act[j]:
-                en[i, j] = e[i, j]
-    for it in range(max_iter):
-        for i in range(nn):
-            for j in range(j0, j1):
-                if live[j]:
-                    Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, TF[j])
-        for j in range(j0, j1):
-            r0[j] = 0.0
-        for i in range(nn):
-            al = dt * kap / dz[i - 1] if i > 0 else 0.0
-            au = dt * kap / dz[i] if i < M else 0.0
-            for j in range(j0, j1):
-                if not live[j]:
-                    continue
-                res = w[i] * (en[i, j] - e[i, j]) - src[i, j]
-                d = w[i]
-                lo[i, j] = 0.0
-                up[i, j] = 0.0
-                if i == 0:
-                    res += al2[j] * Tk[0, j] + be2[j]
-                    d += al2[j] * dT[0, j]
-                if i > 0:
-                    res += al * (Tk[i, j] - Tk[i - 1, j])
-                    d += al * dT[i, j]
-                    lo[i, j] = -al * dT[i - 1, j]
-                if i < M:
-                    res += au * (Tk[i, j] - Tk[i + 1, j])
-                    d += au * dT[i, j]
-                    up[i, j] = -au * dT[i + 1, j]
-                if i == M and fixed_far:
-                    res = 0.0
-                    d = 1.0
-                    lo[i, j] = 0.0
-                di[i, j] = d
-                rhs[i, j] = -res
-                r0[j] += res * res
-        _thomas_masked(lo, di, up, rhs, live, nn, j0, j1)
-        # T(e) is monotone and piecewise linear: a node stops at the first breakpoint on its way and takes the
-        # next branch's slope at the next iteration; the step is halved while it does not reduce the residual
-        # (Newton across the melt kinks can otherwise cycle).  The full step first, for all columns (dT holds the
-        # trial enthalpies): where no node changes branch of T(e) the linearised step is exact
-        for j in range(j0, j1):
-            exact[j] = True
-            dmx[j] = 0.0
-        for i in range(nn):
-            for j in range(j0, j1):
-                if live[j]:
-                    es = rho_c * (TF[j] - T0)  # solidus and liquidus enthalpies
-                    dT[i, j], stop = _kink_stop(en[i, j], en[i, j] + rhs[i, j], es, es + rho_L, rho_L)
-                    if stop:
-                        exact[j] = False
-        for j in range(j0, j1):
-            if not live[j] or exact[j]:
-                continue
-            es = rho_c * (TF[j] - T0)
-            lam = 1.0
-            for _ in range(8):
-                same = True
-                for i in range(nn):
-                    trial[i], stop = _kink_stop(en[i, j], en[i, j] + lam * rhs[i, j], es, es + rho_L, rho_L)
-                    if stop:  # a node changed branch of T(e): the linearised step is not exact
-                        same = False
-                if same or _heat_residual2(trial, e[:, j], src[:, j], w, dz, dt, kap, rho_c, rho_L, T0, TF[j],
-                                           fixed_far, al2[j], be2[j]) < r0[j]:
-                    break
-                lam *= 0.5
-            exact[j] = same and lam == 1.0
-            for i in range(nn):
-                dT[i, j] = trial[i]
-        for i in range(nn):
-            for j in range(j0, j1):
-                if live[j]:
-                    dmx[j] = max(dmx[j], abs(dT[i, j] - en[i, j]))
-                    en[i, j] = dT[i, j]
-        any_live = False
-        for j in range(j0, j1):
-            if live[j]:
-                if exact[j] or dmx[j] <= tol * rho_c:  # a full step on one branch is the exact solution
-                    live[j] = False
-                else:
-                    any_live = True
-        if not any_live:
-            break
-    for j in range(j0, j1):
-        if live[j]:  # not converged: flagged (its conservative update would amplify the error by D dt/dz^2)
-            hout[j] = math.nan
-    for i in range(nn):
-        for j in range(j0, j1):
-            if act[j]:
-                Tk[i, j], dT[i, j], _ = temperature_of(en[i, j], rho_c, rho_L, T0, TF[j])
-    for i in range(nn):
-        al = dt * kap / dz[i - 1] if i > 0 else 0.0
-        au = dt * kap / dz[i] if i < M else 0.0
-        for j in range(j0, j1):
-            if not act[j]:
-                continue
-            flux = src[i, j]
-            if i == 0:
-                q2[j] = al2[j] * Tk[0, j] + be2[j]
-                flux -= q2[j]
-            if i > 0:
-                flux -= al * (Tk[i, j] - Tk[i - 1, j])
-            if i < M:
-                flux -= au * (Tk[i, j] - Tk[i + 1, j])
-            if i == M and fixed_far:
-                if not live[j]:  # an unconverged column keeps its nan (the caller stops it)
-                    hout[j] = flux  # what node M would gain: it leaves through z = h
-                en[i, j] = e[i, j]
-            else:
-                en[i, j] = e[i, j] + flux / w[i]
-            Tout[i, j], _, _ = temperature_of(en[i, j], rho_c, rho_L, T0, TF[j])
-    return hout
 
 
 @njit(cache=True)
@@ -1160,15 +425,16 @@ class ViscoplasticColumns:
         self.pressure_melting = bool(pressure_melting) and self.melt_law[1] > 0.0
         self.T0, self.T_F, self.beta_T = float(T0), T_F, float(beta_T)
         nn, nc = self.z.size, int(n_columns)
-        # the excess layer's kernel steps one column at a time: its profiles are stored column by column (Fortran
-        # order, each column contiguous); the other kernels' loops run across the columns (C order)
-        self._order = "F" if far_end == "excess" else "C"
+        # both kernels step one column at a time: the profiles are stored column by column (Fortran order, each
+        # column contiguous)
+        self._order = "F"
         order = self._order
         self.v = np.zeros((nn, nc), order=order)
         self.ge = np.zeros((nn - 1, nc), order=order)
         self.Gs = np.zeros((nn - 1, nc), order=order)
         self.eps = np.zeros((nn - 1, nc), order=order)
         self.eps_ref = np.zeros(nc)  # the reference layer's plastic strain (far_end = "excess")
+        self._reach = np.zeros(nc, np.int64)  # deepest plastic cell + 1 of the last step (the mechanics window)
         self.e = np.zeros((nn, nc), order=order)
         self.T = np.full((nn, nc), self.T0, order=order)
         self.energy = np.zeros((N_ENERGY, nc))
@@ -1188,7 +454,6 @@ class ViscoplasticColumns:
         self._yref = np.full((2, nc), math.nan)
         self._dt_prev = np.zeros(2)  # their time steps (0: none); the three are checkpointed with the state
         # the kernel's scratch, allocated once (the excess layer's kernel keeps its own per column)
-        self._work = np.empty((N_WORK, nn + 1, nc) if far_end != "excess" else (N_WORK, 0, 0))
         self.TF = np.full(nc, float(T_F))  # melting temperature of each column at its last step
         # the other body's thermal column (two-sided heat): first cell as the column's, geometric (other_ratio) down
         # to the column's thermal reach scaled by the diffusivities, sqrt(alpha2/alpha1) z[-1]
@@ -1423,12 +688,13 @@ class ViscoplasticColumns:
                         self.flux_in, self.film_thickness, self.iterations, self.status, self.energy, self._de,
                         self._de2, pw, retry, self.TF, self.T_other, self._c2, self._a2, self._oth, self.eps_ref,
                         self._yh, self._yh_eps, self._yref)
-        else:
-            viscoplastic_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
-                              F_N, v_free, v_prev, k, tau_cap, self.scg, self.par, dt, self.max_picard, self.tau,
-                              self._v_half, self.slip_local, self.flux_in, self.film_thickness, self.iterations,
-                              self.status, self.energy, self._de, self._de2, pw, self._work, retry,
-                              self.TF, v_far, self.T_other, self._c2, self._a2, self._oth)
+        else:  # the column with its velocities: its own kernel, one column at a time, the mechanics on a window
+            from shockfriction.friction.subgrid.inertial_column import inertial_step
+            inertial_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
+                          F_N, v_free, v_prev, k, tau_cap, self.scg, self.par, dt, self.max_picard, self.tau,
+                          self._v_half, self.slip_local, self.flux_in, self.film_thickness, self.iterations,
+                          self.status, self.energy, self._de, self._de2, pw, retry,
+                          self.TF, v_far, self.T_other, self._c2, self._a2, self._oth, self._reach)
         self.substeps[:] = 1
         redo = np.flatnonzero(retry & (((self.iterations < 0) & (self.status == OK))
                                        | (self.status == NO_CONVERGENCE)))
@@ -1452,9 +718,9 @@ class ViscoplasticColumns:
             setattr(sub, name, np.zeros(n))
         sub.TF = self.TF[cols].copy()
         sub.eps_ref = self.eps_ref[cols].copy()
+        sub._reach = self._reach[cols].copy()
         sub.iterations, sub.status, sub.substeps = (np.zeros(n, np.int64) for _ in range(3))
         sub._dt_prev = np.array(dt_prev, float)
-        sub._work = np.empty((N_WORK, self.z.size + 1, n))
         sub._oth = np.empty((2, self.z_other.size, n))
         e_start, de_prev = sub.e.copy(), sub._de.copy()
         args = [np.ascontiguousarray(a[cols]) for a in (F_N, v_free, v_prev, k, tau_cap, v_far)]
@@ -1480,6 +746,7 @@ class ViscoplasticColumns:
             for name in ("v", "ge", "Gs", "eps", "e", "T", "energy", "T_other", "_yh", "_yh_eps", "_yref"):
                 getattr(self, name)[:, keep] = getattr(sub, name)[:, ok]
             self.eps_ref[keep] = sub.eps_ref[ok]
+            self._reach[keep] = sub._reach[ok]
             self._de[:, keep] = (sub.e - e_start)[:, ok]  # the predictor's history: the change over the whole dt
             self._de2[:, keep] = de_prev[:, ok]
         self.tau[cols], self.slip_local[cols], self.flux_in[cols] = tau, slip, flux
