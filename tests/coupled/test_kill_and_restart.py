@@ -256,13 +256,15 @@ def test_sigterm_stops_cleanly_with_a_checkpoint(reference, tmp_path):
     assert_same_outputs(ref, out)
 
 
-def test_restart_with_viscoplastic_columns_is_bit_for_bit(tmp_path, no_plots):
+@pytest.mark.parametrize("closure", ["excess", "shear"])
+def test_restart_with_viscoplastic_columns_is_bit_for_bit(tmp_path, no_plots, closure):
     """The checkpoint also carries the viscoplastic columns' state (velocity, elastic strain, enthalpy,
-    energies): an Al target with 'subgrid-viscoplastic' friction, crashed after its first checkpoint and
-    restarted, ends identical to an uninterrupted run."""
+    energies; with the "shear" closure the columns with velocities, held at the hydro's shear, and their mechanics
+    window): an Al target with 'subgrid-viscoplastic' friction, crashed after its first checkpoint and restarted,
+    ends identical to an uninterrupted run."""
     text = (DECK.format(end="0.3 us").replace('material = "Ti-6Al-4V"', 'material = "Al5083-H111"')
             .replace('law = "subgrid-thermoelastoplastic", mu0 = 0.15, f = 0.15',
-                     'law = "subgrid-viscoplastic", mu0 = 0.3, f = 0.3')
+                     f'law = "subgrid-viscoplastic", mu0 = 0.3, f = 0.3, closure = "{closure}"')
             .replace('checkpoint_interval = "0.2 us"', 'checkpoint_interval = "0.1 us"'))
     assert 'law = "subgrid-viscoplastic"' in text and 'material = "Al5083-H111"' in text and '"0.1 us"' in text
     deck = tmp_path / "vp.toml"

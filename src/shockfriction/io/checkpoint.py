@@ -13,7 +13,7 @@ walking the run's objects:
   columns (temperature and plastic-strain fields, the lagged plastic heat, the plastic-front
   bounds, the cumulative per-node energies, the last friction and slip, and the step the
   implicit-heat factors were made for; a viscoplastic column's last two enthalpy increments and
-  steps, its Picard predictor);
+  steps, its Picard predictor, the depth of its mechanics window);
 * the output writers' positions (bytes of each CSV file, field outputs written, the next
   field time) and the next checkpoint time, and the deck (JSON) it was taken with.
 
@@ -50,7 +50,7 @@ CHILDREN = {
 }
 # set-up values that a restart takes from the deck and the command line, not from the checkpoint
 SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner"},
-        "ViscoplasticColumns": {"_work", "_oth"}}  # scratch of the kernel
+        "ViscoplasticColumns": {"_oth"}}  # scratch of the kernel
 # arrays that checkpoints of earlier builds hold and this one no longer keeps (scratch): ignored on load
 DROPPED = {"Simulation": {"_corner"}}  # the force pass's scratch, now Simulation._force_scratch (a tuple)
 # deck fields a restart may change: the end time, the cycle limit and the checkpoint interval
