@@ -165,6 +165,7 @@ def test_a_bad_deck_leaves_a_non_empty_out_alone(tmp_path, capsys):
 # --- option checks -------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("argv, option", [(["run", "{deck}", "--threads", "-5"], "--threads"),
+                                          (["subgrid", "{deck}", "--threads", "-1"], "--threads"),
                                           (["sweep", "{deck}", "--out", "{out}", "--workers", "0"], "--workers"),
                                           (["fit", "{deck}", "--workers", "-1"], "--workers")])
 def test_counts_are_checked(argv, option, tmp_path, capsys):
@@ -173,6 +174,29 @@ def test_counts_are_checked(argv, option, tmp_path, capsys):
     argv = [a.format(deck=deck, out=tmp_path / "o") for a in argv]
     code, _, err = cli(argv, capsys)
     assert code == 2 and option in err and "usage error" in err
+
+
+def test_subgrid_columns_give_the_same_bytes_on_one_and_two_threads(tmp_path, capsys):
+    """``subgrid --threads``: 8 viscoplastic columns (1600 cells in all: parallel blocks on two threads) write the
+    same history on one and on two threads."""
+    import numba
+
+    loading = "".join(f'[[loading]]\ntimes = ["0 ns"]\nslip_velocity = ["{v} m/s"]\nnormal_stress = ["10 GPa"]\n'
+                      for v in range(150, 230, 10))
+    deck = tmp_path / "deck.toml"
+    deck.write_text(SUBGRID_DECK.replace('duration = "5 ns"', 'duration = "10 ns"\nmodel = "viscoplastic"')
+                    .replace("cells = 20", "cells = 200").split("[[loading]]")[0] + loading)
+    try:
+        for n in (1, 2):
+            code, _, err = cli(["subgrid", deck, "--out", tmp_path / f"t{n}", "--threads", n, "--no-plots"], capsys)
+            assert code == 0, err
+            assert numba.get_num_threads() == min(n, numba.config.NUMBA_NUM_THREADS)
+    finally:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    a, b = (sorted(p.name for p in (tmp_path / f"t{n}").glob("history*.csv")) for n in (1, 2))
+    assert a == b and len(a) == 8
+    for name in a:
+        assert (tmp_path / "t1" / name).read_bytes() == (tmp_path / "t2" / name).read_bytes(), name
 
 
 def test_schema_of_unknown_kind_is_a_usage_error(capsys):

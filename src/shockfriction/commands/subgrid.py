@@ -19,6 +19,9 @@ def register(app: typer.Typer) -> None:
         deck: Path = typer.Argument(..., help="TOML deck (see examples/subgrid/)"),
         out: Optional[Path] = typer.Option(None, "--out", help="output folder (default: out/<deck stem>)"),
         plots: bool = typer.Option(True, "--plots/--no-plots", help="write the PNG figures"),
+        threads: Optional[int] = typer.Option(None, "--threads", "-t",
+                                              help="numba threads for the columns (1 = one, 0 = all cores); "
+                                                   "default: all cores from 1600 cells in all"),
         force: bool = FORCE,
         verbose: int = VERBOSE,
         quiet: bool = QUIET,
@@ -37,11 +40,12 @@ def register(app: typer.Typer) -> None:
         from shockfriction.deck.base import load_deck
         from shockfriction.deck.subgrid import SubgridDeck
         from shockfriction.friction.subgrid.driver import run_subgrid
-        from shockfriction.io.outdir import check_out_path, out_dir_state, prepare_out_dir
+        from shockfriction.io.outdir import check_out_path, check_threads, out_dir_state, prepare_out_dir
         from shockfriction.log import configure_logging, verbosity
         from shockfriction.plot.subgrid import plot_interface, plot_profiles
 
         configure_logging(verbosity(verbose, quiet))
+        check_threads(threads)
         out_dir = check_out_path(out if out is not None else Path("out") / deck.stem)
         model = load_deck(deck, SubgridDeck)
         if dry_run:
@@ -51,6 +55,11 @@ def register(app: typer.Typer) -> None:
                             f"output folder {out_dir}: {out_dir_state(out_dir, force=force)}; nothing run",
                             highlight=False)
             return
+        from shockfriction.threading_policy import effective_threads, use_threads
+
+        # the columns run in parallel blocks (the same bytes on any count); 0 / default: the available cores, one
+        # below threading_policy.MIN_PARALLEL_CELLS cells in all
+        use_threads(effective_threads(0 if threads is None else threads, len(model.loading) * model.column.cells))
         prepare_out_dir(out_dir, force=force, restart=False)
         res = run_subgrid(model, out_dir, source=str(deck), force=force)
         files = list(res.files)
