@@ -44,7 +44,7 @@ INV_SQRT3 = 1.0 / SQRT3
 PARALLEL_MIN_COLUMNS = 8
 
 
-def inertial_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+def inertial_step(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                   tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                   TF, v_far, T2, c2, a2, oth, reach):
     """Advance every column by dt (:func:`_inertial_block`; arguments as
@@ -55,23 +55,23 @@ def inertial_step(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_ca
     nc = v.shape[1]
     threads = get_num_threads()
     if threads > 1 and nc >= PARALLEL_MIN_COLUMNS:
-        _inertial_parallel(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+        _inertial_parallel(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                            tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                            TF, v_far, T2, c2, a2, oth, reach, min(threads * 4, nc))
         return 0
-    return _inertial_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+    return _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                            tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                            TF, v_far, T2, c2, a2, oth, reach, np.uint64(0), np.uint64(nc))
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _inertial_parallel(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+def _inertial_parallel(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                        tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                        TF, v_far, T2, c2, a2, oth, reach, nblocks):
     """:func:`_inertial_block` over ``nblocks`` blocks of consecutive columns in parallel."""
     nc = v.shape[1]
     for b in prange(nblocks):
-        _inertial_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+        _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                         tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                         TF, v_far, T2, c2, a2, oth, reach, np.uint64(b * nc // nblocks),
                         np.uint64((b + 1) * nc // nblocks))
@@ -141,7 +141,7 @@ def _condense(vo, dz, dt, mass, G, ge, eta, nw, M, imped, Zc, held_v, pf, qf):
 
 
 @njit(cache=True, error_model="numpy")
-def _inertial_block(z, dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                     tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                     TF, v_far, T2, c2, a2, oth, reach, j0, j1):
     """Advance the columns j0 <= j < j1 by dt, one at a time (j0, j1 unsigned: the column index is then known to be

@@ -690,7 +690,7 @@ class ViscoplasticColumns:
                         self._yh, self._yh_eps, self._yref)
         else:  # the column with its velocities: its own kernel, one column at a time, the mechanics on a window
             from shockfriction.friction.subgrid.inertial_column import inertial_step
-            inertial_step(self.z, self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
+            inertial_step(self.dz, self.weights, self.v, self.ge, self.Gs, self.eps, self.e, self.T,
                           F_N, v_free, v_prev, k, tau_cap, self.scg, self.par, dt, self.max_picard, self.tau,
                           self._v_half, self.slip_local, self.flux_in, self.film_thickness, self.iterations,
                           self.status, self.energy, self._de, self._de2, pw, retry,
