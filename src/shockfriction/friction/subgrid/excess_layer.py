@@ -206,6 +206,46 @@ def _aitken_sums(en, Em, rb):
 
 
 @njit(cache=True, error_model="numpy")
+def gather_predict(e, de, de2, j, el, d1, d2, Em, pw):
+    """Gather column j's enthalpies and their changes over the last two steps into el, d1, d2, and its first Picard
+    iterate Em = el + a1 d1 + a2 d2: quadratic (pw[0], pw[1]: :func:`~shockfriction.friction.subgrid.viscoplastic.
+    predictor_weights`) on a smooth history, max|d1 - d2| <= SMOOTH max|d1|, else linear (pw[2], 0).  (The maxima
+    as the bits of non-negative floats, ordered as integers: the loop vectorises.)"""
+    m1 = np.int64(0)
+    m2 = np.int64(0)
+    for i in range(el.size):
+        el[i] = e[i, j]
+        d1[i] = de[i, j]
+        d2[i] = de2[i, j]
+        m1 = max(m1, np.int64(f64_bits(abs(d1[i]))))
+        m2 = max(m2, np.int64(f64_bits(abs(d1[i] - d2[i]))))
+    quad = f64_from_bits(m2) <= SMOOTH * f64_from_bits(m1)
+    a1 = pw[0] if quad else pw[2]
+    a2 = pw[1] if quad else 0.0
+    for i in range(el.size):
+        Em[i] = el[i] + a1 * d1[i] + a2 * d2[i]
+
+
+@njit(cache=True, error_model="numpy")
+def forget_history(de, de2, j):
+    """Column j's step failed or was refused: no enthalpy history for the next step's predictor."""
+    for i in range(de.shape[0]):
+        de[i, j] = 0.0
+        de2[i, j] = 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def commit_heat(e, T, de, de2, j, el, en, d1, Tout):
+    """Scatter column j's new enthalpies en and temperatures Tout, and its history for the predictor: the last
+    step's change d1 and this one's, en - el."""
+    for i in range(el.size):
+        de2[i, j] = d1[i]
+        de[i, j] = en[i] - el[i]
+        e[i, j] = en[i]
+        T[i, j] = Tout[i]
+
+
+@njit(cache=True, error_model="numpy")
 def picard_converged(en, Em, tol):
     """max_i |en_i - Em_i| <= tol: the heat solve's enthalpies against the sweep's material ones (the maximum as the
     bits of non-negative floats: integer maxima vectorise)."""
@@ -555,9 +595,7 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
         if not (math.isfinite(F) and math.isfinite(vf) and math.isfinite(vp) and math.isfinite(kj)
                 and tau_cap[j] >= 0.0):
             status[j] = BAD_INPUT
-            for i in range(nn):
-                de[i, j] = 0.0
-                de2[i, j] = 0.0
+            forget_history(de, de2, j)
             continue
         # the reference layer (the body at T0 and the column's pressure, hardened by its own homogeneous flow
         # eps_ref, frozen over the step)
@@ -571,22 +609,7 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
         kref = yref * kfr
         href = kfr * _slope_factor(yref, eps_ref[j], beta_h, n_h, Ymax)
         hrden = eta_dt + href
-        # first Picard iterate: quadratic predictor on a smooth history, else linear
-        m1 = np.int64(0)  # the maxima as the bits of non-negative floats (ordered as integers: vectorises)
-        m2 = np.int64(0)
-        for i in range(nn):
-            el[i] = e[i, j]
-            d1[i] = de[i, j]
-            d2[i] = de2[i, j]
-            m1 = max(m1, np.int64(f64_bits(abs(d1[i]))))
-            m2 = max(m2, np.int64(f64_bits(abs(d1[i] - d2[i]))))
-        b1 = f64_from_bits(m1)
-        b2 = f64_from_bits(m2)
-        quad = b2 <= SMOOTH * b1
-        a1 = pw[0] if quad else pw[2]
-        a2w = pw[1] if quad else 0.0
-        for i in range(nn):
-            Em[i] = el[i] + a1 * d1[i] + a2w * d2[i]
+        gather_predict(e, de, de2, j, el, d1, d2, Em, pw)  # the first Picard iterate
         fresh = False
         for c in range(M):  # (vectorised; a cell that never flowed in excess shares the reference's yield exactly)
             epsl[c] = eps[c, j]
@@ -700,9 +723,7 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
             blo, bhi, xprev, rprev, omega = next_iterate(pic, Em, en, rb, blo, bhi, xprev, rprev, omega, ptol * rho_c)
         if failed:
             status[j] = NO_CONVERGENCE
-            for i in range(nn):
-                de[i, j] = 0.0
-                de2[i, j] = 0.0
+            forget_history(de, de2, j)
             continue
         if not fin:
             iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is exact) ...
@@ -730,8 +751,5 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
         film[j] = thick
         for i in range(nn):
             v[i, j] = vl[i]
-            de2[i, j] = d1[i]
-            de[i, j] = en[i] - el[i]
-            e[i, j] = en[i]
-            T[i, j] = Tit[i]
+        commit_heat(e, T, de, de2, j, el, en, d1, Tit)
     return 0

@@ -26,13 +26,13 @@ import numpy as np
 from numba import get_num_threads, njit, prange
 
 from shockfriction.friction.subgrid.excess_layer import (
-    _column_heat, _heat_factor, commit_surface, next_iterate, picard_converged)
+    _column_heat, _heat_factor, commit_heat, commit_surface, forget_history, gather_predict, next_iterate,
+    picard_converged)
 from shockfriction.friction.subgrid.viscoplastic import (
     BAD_INPUT, E_NUMERICAL, E_PLASTIC, E_RADIATED,
     E_SOFTENING, E_VISCOUS, NO_CONVERGENCE, OK, P_BETA_Q, P_BETA_T, P_C, P_E_R, P_ETA_F, P_ETA_VP, P_F,
     P_HEAT_TOL, P_INERTIA, P_KAPPA, P_L, P_MAX_NEWTON, P_MECH_TOL, P_PICARD_TOL, P_RHO, P_T0, P_T_FAR, P_V_R, P_Z,
-    PHI_MIN, SMOOTH, SQRT3, _cell_state, liquid_viscosity, other_body_response, temperature_of)
-from shockfriction.jit_bits import f64_bits, f64_from_bits
+    PHI_MIN, SQRT3, _cell_state, liquid_viscosity, other_body_response, temperature_of)
 from shockfriction.materials.strength import (
     I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio, scg_shear_ratio_simd)
 
@@ -210,10 +210,12 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
         nodes[10], nodes[11], nodes[12], nodes[13], nodes[14], nodes[15], nodes[16], nodes[17], nodes[18],
         nodes[19], nodes[20], nodes[21])
     S = np.empty(nn + 1)
-    cells = np.empty((16, M))
+    cells = np.empty((18, M))
     gel, Gsl, epsl, yh, G, kf, eta, sold, phc, Kc, dgp, snew, gdm = (
         cells[0], cells[1], cells[2], cells[3], cells[4], cells[5], cells[6], cells[7], cells[8], cells[9],
         cells[10], cells[11], cells[12])
+    gen, wpc, wvc, wsc = cells[13], cells[14], cells[15], cells[16]  # new elastic strain, works per area
+    dgt = cells[17]  # the far field's plastic increments at its test
     for j in range(j0, j1):
         F, vf, vp, kj = F_N[j], v_free[j], v_prev[j], k[j]
         TFj = TF[j]
@@ -224,28 +226,14 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
         if not (math.isfinite(F) and math.isfinite(vf) and math.isfinite(vp) and math.isfinite(kj)
                 and tau_cap[j] >= 0.0):
             status[j] = BAD_INPUT
-            for i in range(nn):
-                de[i, j] = 0.0
-                de2[i, j] = 0.0
+            forget_history(de, de2, j)
             continue
         al2 = al2v[j]
         be2 = be2v[j]
-        # gather; the first Picard iterate: quadratic predictor on a smooth history, else linear
-        m1 = np.int64(0)
-        m2 = np.int64(0)
+        gather_predict(e, de, de2, j, el, d1, d2, Em, pw)  # the first Picard iterate
         for i in range(nn):
-            el[i] = e[i, j]
-            d1[i] = de[i, j]
-            d2[i] = de2[i, j]
             vo[i] = v[i, j]
             vn[i] = vo[i]
-            m1 = max(m1, np.int64(f64_bits(abs(d1[i]))))
-            m2 = max(m2, np.int64(f64_bits(abs(d1[i] - d2[i]))))
-        quad = f64_from_bits(m2) <= SMOOTH * f64_from_bits(m1)
-        a1 = pw[0] if quad else pw[2]
-        a2w = pw[1] if quad else 0.0
-        for i in range(nn):
-            Em[i] = el[i] + a1 * d1[i] + a2w * d2[i]
             Tit[i] = T[i, j]
         for c in range(M):
             gel[c] = ge[c, j]
@@ -425,40 +413,44 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                 if not done:
                     failed = True
                     break
-                # the far field: back substitution, then is it still linear (no cell flowing)?
+                # the far field: back substitution, its cells' states (kept for the heat sources), and is it still
+                # linear (no cell flowing)?
                 grow = 0
                 if nw < M:
                     for i in range(nw + 1, M + 1):
                         vn[i] = pf[i] + qf[i] * vn[i - 1]
                     for c in range(nw, M):
-                        if G[c] > 0.0 and abs(G[c] * (gel[c] + dt * ((vn[c] - vn[c + 1]) / dz[c]))) > yh[c] * kf[c]:
+                        gd, sn, dg, Sm, K = _cell_state(vo[c] - vo[c + 1], vn[c] - vn[c + 1], dz[c], dt, G[c],
+                                                        gel[c], epsl[c], yh[c], eta[c], kf[c], sold[c], Y0, beta_h,
+                                                        n_h, Ymax, eta_vp, 1.0)
+                        gdm[c] = gd
+                        S[c + 1] = Sm
+                        snew[c] = sn
+                        dgt[c] = dg
+                        if dg != 0.0 and G[c] > 0.0:
                             grow = c + 1
+                    if grow == 0:  # (a grown window's Newton starts its new cells' return maps as before the test)
+                        for c in range(nw, M):
+                            dgp[c] = dgt[c]
                 if grow == 0:
                     break
                 nw = min(M, grow + WINDOW_MARGIN)
             if failed:
                 break
             deep_all = max(deep_all, deep)
-            # ---- final cell states, heat sources
+            # ---- heat sources from the cells' states at the solution (the window's from the Newton's last pass,
+            # the far field's from its test): plastic, viscous and softening work per area, kept for the books
             for i in range(nn):
                 src[i] = 0.0
             for c in range(M):
-                if c < nw:  # the window's cells: their states at the solution, from the Newton's last pass
-                    gd, sn, dg = gdm[c], snew[c], dgp[c]
-                else:  # the far field's (linear)
-                    gd, sn, dg, Sm, K = _cell_state(vo[c] - vo[c + 1], vn[c] - vn[c + 1], dz[c], dt, G[c], gel[c],
-                                                    epsl[c], yh[c], eta[c], kf[c], sold[c], Y0, beta_h, n_h, Ymax,
-                                                    eta_vp, 1.0)
-                    gdm[c] = gd
-                    S[c + 1] = Sm
-                    snew[c] = sn
-                    dgp[c] = dg
-                ge_new = sn / G[c] if G[c] > 0.0 else 0.0
-                wp = sn * dg * dz[c]
-                wv = eta[c] * gd * gd * dt * dz[c]
-                del_el = 0.5 * (G[c] * ge_new * ge_new - Gsl[c] * gel[c] * gel[c]) * dz[c]
-                wsoft = sn * (ge_new - gel[c]) * dz[c] - del_el
-                h = beta_Q * wp + wv + wsoft
+                sn = snew[c]
+                gd = gdm[c]
+                gen[c] = sn / G[c] if G[c] > 0.0 else 0.0
+                wpc[c] = sn * dgp[c] * dz[c]
+                wvc[c] = eta[c] * gd * gd * dt * dz[c]
+                del_el = 0.5 * (G[c] * gen[c] * gen[c] - Gsl[c] * gel[c] * gel[c]) * dz[c]
+                wsc[c] = sn * (gen[c] - gel[c]) * dz[c] - del_el
+                h = beta_Q * wpc[c] + wvc[c] + wsc[c]
                 src[c] += 0.5 * h
                 src[c + 1] += 0.5 * h
             for i in range(nn):  # kinetic energy dissipated by backward Euler, m (v' - v)^2/2: heat at the node
@@ -491,9 +483,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
             blo, bhi, xprev, rprev, omega = next_iterate(pic, Em, en, rb, blo, bhi, xprev, rprev, omega, ptol * rho_c)
         if failed:
             status[j] = NO_CONVERGENCE
-            for i in range(nn):
-                de[i, j] = 0.0
-                de2[i, j] = 0.0
+            forget_history(de, de2, j)
             continue
         if not fin:
             iters[j] = -max_iter  # Picard not converged: the step is kept (its energy balance is exact) ...
@@ -511,19 +501,14 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
             energy[E_NUMERICAL, j] += 0.5 * mass[i] * dv * dv
         thick = 0.0
         for c in range(M):
-            sn = snew[c]
-            dg = dgp[c]
-            gd = gdm[c]
-            ge_new = sn / G[c] if G[c] > 0.0 else 0.0
-            del_el = 0.5 * (G[c] * ge_new * ge_new - Gsl[c] * gel[c] * gel[c]) * dz[c]
-            energy[E_PLASTIC, j] += sn * dg * dz[c]
-            energy[E_VISCOUS, j] += eta[c] * gd * gd * dt * dz[c]
-            energy[E_SOFTENING, j] += sn * (ge_new - gel[c]) * dz[c] - del_el
+            energy[E_PLASTIC, j] += wpc[c]
+            energy[E_VISCOUS, j] += wvc[c]
+            energy[E_SOFTENING, j] += wsc[c]
             if G[c] > 0.0:
-                eps[c, j] = epsl[c] + abs(dg) / SQRT3
+                eps[c, j] = epsl[c] + abs(dgp[c]) / SQRT3
             elif phc[c] >= 1.0:
                 eps[c, j] = 0.0  # a fully molten cell forgets its hardening
-            ge[c, j] = ge_new
+            ge[c, j] = gen[c]
             Gs[c, j] = G[c]
             if G[c] <= 0.0:
                 thick += min(phc[c], 1.0) * dz[c]
@@ -531,8 +516,5 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
         reach[j] = deep_all
         for i in range(nn):
             v[i, j] = vn[i]
-            de2[i, j] = d1[i]
-            de[i, j] = en[i] - el[i]
-            e[i, j] = en[i]
-            T[i, j] = Tit[i]
+        commit_heat(e, T, de, de2, j, el, en, d1, Tit)
     return 0
