@@ -147,23 +147,25 @@ def _limited(max_picard, k=0.0, t_end=0.2e-6, dz=40e-9):
 
 def test_unconverged_step_is_split():
     """A step of an imposed-slip column whose Picard iteration does not converge is redone as two half steps
-    (recursively, down to dt/16).  With the sweep limit cut to 10, the onset on 40 nm cells needs it (measured: 40
+    (recursively, down to dt/16).  With the sweep limit cut to 10, the onset on 40 nm cells needs it (measured: 53
     steps split, at most 5 sub-steps, none left unconverged); the history then follows the limit-100 run
-    (no split) to 4.6e-4 / 3.1e-4 / 2.7e-4 in tau at 120 / 150 / 200 ns, with the energy balance exact."""
+    (no split) to 6.4e-4 / 7.5e-4 / 3.7e-4 in tau at 120 / 150 / 200 ns, with the energy balance exact.  (With the
+    Picard test on the increment alone, before issue 26's error bound: 40 steps, 4.6e-4 / 3.1e-4 / 2.7e-4.)"""
     ref, ref_sub, ref_its, _ = _limited(100)
     tau, sub, its, residual = _limited(10)
     assert np.all(ref_sub == 1) and np.all(ref_its > 0)
-    assert 1 <= np.count_nonzero(sub > 1) <= 50 and sub.max() <= 8 and np.all(its > 0)
+    assert 1 <= np.count_nonzero(sub > 1) <= 60 and sub.max() <= 8 and np.all(its > 0)
     assert residual < 1e-13
     for step in (120, 150, 200):
-        assert tau[step - 1] == pytest.approx(ref[step - 1], rel=8e-4)
+        assert tau[step - 1] == pytest.approx(ref[step - 1], rel=9e-4)
 
 
 def test_coupled_column_is_split_too():
     """With a macroscopic compliance (k > 0, a slide-line node) an unconverged step is split as well: each half step
     takes k/2 and the free slip the first half left, so the impulses add up to the step's and tau is their mean
-    (version 0.3 kept the step unsplit).  With the sweep limit cut to 3: 29 steps split, up to 16 sub-steps, 24
-    still unconverged on dt/16 (kept, flagged by negative iterations); energy balance 4.1e-12."""
+    (version 0.3 kept the step unsplit).  With the sweep limit cut to 3: 29 steps split, up to 16 sub-steps, 17
+    still unconverged on dt/16 (kept, flagged by negative iterations); energy balance 7.1e-12 (24 unconverged and
+    4.1e-12 with the Picard test on the increment alone, before the error bound of issue 26)."""
     tau, sub, its, residual = _limited(3, k=1e-12, t_end=0.12e-6)
     assert np.count_nonzero(sub > 1) >= 20 and sub.max() == 16 and np.any(its < 0)
-    assert residual < 6e-12  # measured 4.1e-12
+    assert residual < 1e-11  # measured 7.1e-12

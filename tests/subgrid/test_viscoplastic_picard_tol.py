@@ -25,11 +25,11 @@ def _ball(picard_tol, steps=300):
     return sg.tau.copy(), sg.theta_interface.copy(), sweeps / (4 * steps), limit
 
 
-def test_loose_picard_tolerance_costs_little_accuracy_and_halves_the_sweeps():
+def test_loose_picard_tolerance_costs_little_accuracy_and_saves_sweeps():
     """1e-3 K against the default 1e-6 K at 0.3 us, every column, with the fixed heat share and the ambient melting
-    point (the model of version 0.3): measured tau within 1.8e-6 (relative), Theta(0) within 3.0e-5 K, sweeps
-    3.84 -> 2.20 per column-step (x0.57).  (With two-sided heat and the pressure-dependent melt the same comparison
-    gave tau within 2.2e-4: not asserted, docs/theory/viscoplastic.md.)"""
+    point (the model of version 0.3): measured tau within 1.9e-5 (relative), Theta(0) within 5.0e-4 K (below the
+    tolerance, which bounds each step's error: "The Picard test"), sweeps 3.26 -> 2.04 per column-step (x0.63).
+    (With the test on the increment alone, before issue 26's error bound: 1.8e-6, 3.0e-5 K, 3.84 -> 2.20.)"""
     assert PICARD_TOL == 1e-6
     tau0, T0, s0, lim0 = _ball(PICARD_TOL)
     tau1, T1, s1, lim1 = _ball(1e-3)
@@ -37,8 +37,8 @@ def test_loose_picard_tolerance_costs_little_accuracy_and_halves_the_sweeps():
     dT = np.max(np.abs(T1 - T0))
     print(f"\ntau {tau0 / 1e6} MPa; 1e-3 K vs 1e-6 K: tau {dtau:.2e}, Theta(0) {dT:.2e} K, sweeps {s0:.2f} -> {s1:.2f}")
     assert lim0 == 0 and lim1 == 0
-    assert dtau < 2e-5 and dT < 5e-5
-    assert s1 < 0.65 * s0
+    assert dtau < 2.5e-5 and dT < 6e-4
+    assert s1 < 0.68 * s0
 
 
 def _subgrid_deck(**vp):
@@ -59,3 +59,72 @@ def test_subgrid_deck_refuses_a_bad_tolerance(value, message):
     with pytest.raises(Exception) as err:
         SubgridDeck.model_validate(_subgrid_deck(picard_tol=value))
     assert "picard_tol" in str(err.value) and message in str(err.value)
+
+
+def _iterate(rho, tol, n=50, seed=0):
+    """The kernels' Picard loop (picard_converged, next_iterate) on a linear sweep map Phi(E) = x* + A (E - x*),
+    A diagonal with entries in [rho/3, rho] (max-norm contraction rho), from a first iterate up to 1 away from x* in
+    the bulk and at x* at z = 0 (whose secant the test does not concern).  Returns (sweeps, max|en - x*| of the accepted en, the sweeps the increment test alone would have taken)."""
+    from shockfriction.friction.subgrid.excess_layer import next_iterate, picard_converged
+
+    rng = np.random.default_rng(seed)
+    xs = rng.normal(size=n)
+    a = rng.uniform(rho / 3.0, rho, size=n)
+    a[rng.integers(n)] = rho
+    Em = xs + rng.uniform(-1.0, 1.0, size=n)
+    Em[0] = xs[0]
+    rb = np.zeros(n)
+    blo, bhi, xprev, rprev, omega = -np.inf, np.inf, 0.0, 0.0, 1.0
+    plain = None
+    for pic in range(100):
+        en = xs + a * (Em - xs)
+        if plain is None and np.max(np.abs(en - Em)) <= tol:
+            plain = pic + 1
+        if picard_converged(pic, en, Em, rb, omega, xprev, rprev, tol):
+            break
+        blo, bhi, xprev, rprev, omega = next_iterate(pic, Em, en, rb, blo, bhi, xprev, rprev, omega, tol)
+    sweeps, err = pic + 1, np.max(np.abs(en - xs))
+    while plain is None:  # go on with the increment test alone to count its sweeps
+        blo, bhi, xprev, rprev, omega = next_iterate(pic, Em, en, rb, blo, bhi, xprev, rprev, omega, tol)
+        pic += 1
+        en = xs + a * (Em - xs)
+        if np.max(np.abs(en - Em)) <= tol:
+            plain = pic + 1
+    return sweeps, err, plain
+
+
+@pytest.mark.parametrize("rho", [0.01, 0.05, 0.2, 0.4, 0.7])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_picard_test_bounds_the_error_of_what_it_accepts(rho, seed):
+    """The Picard test accepts a sweep where its increment d <= tol, or where the error bound rho/(1 - rho) d <= tol
+    with rho estimated along the last step (docs/theory/viscoplastic.md, "The Picard test"): on linear maps of
+    contraction rho the accepted enthalpies are within tol of the fixed point, never in more sweeps than the
+    increment test, and in fewer where the contraction is strong; above RHO_MAX = 0.5 it is the increment test (whose
+    accepted error is up to rho/(1 - rho) tol)."""
+    tol = 1e-6
+    sweeps, err, plain = _iterate(rho, tol, seed=seed)
+    assert sweeps <= plain
+    if rho < 0.5:
+        assert err <= tol
+    else:
+        assert sweeps == plain and err <= rho / (1.0 - rho) * tol
+    if rho <= 0.05:
+        assert sweeps < plain
+
+
+@pytest.mark.parametrize("last, accepted", [(1.0, False), (2e-7, True)])
+def test_picard_test_trusts_its_estimate_only_near_convergence(last, accepted):
+    """A sweep whose enthalpies did not move (max|en - en'| = 0, so rho is estimated 0) with an increment 0.95 of the
+    last one: accepted where the increment is within BOUND_GAIN = 100 tolerances (1.9e-7 against 1e-8 x 100), not
+    where it is 0.95 (far from convergence the estimate is not trusted: the inertial localisation column of
+    tests/subgrid/test_viscoplastic_localisation.py met such a sweep, 5e8 K off, at its step 15)."""
+    from shockfriction.friction.subgrid.excess_layer import BOUND_GAIN, picard_converged
+
+    assert BOUND_GAIN == 100.0
+    n, omega, tol = 8, 0.05, 1e-8
+    rb = np.full(n, last)
+    Em = np.linspace(1.0, 2.0, n)           # Em = Em' + omega rb
+    en = Em + (1.0 - omega) * rb            # = en' = Em' + rb: the enthalpies did not move
+    xprev, rprev = Em[0] - omega * last, last  # z = 0 alike
+    assert picard_converged(1, en, Em, rb, omega, xprev, rprev, tol) is accepted
+    assert not picard_converged(0, en, Em, rb, omega, xprev, rprev, tol)  # the first sweep: the increment alone

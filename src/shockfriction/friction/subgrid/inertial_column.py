@@ -477,7 +477,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                 break
             # ---- Picard convergence on the enthalpies that set G, Y and eta; else the next sweep's
             iters[j] = pic + 1
-            if picard_converged(en, Em, ptol * rho_c):  # ptol in kelvin of sensible heat
+            if picard_converged(pic, en, Em, rb, omega, xprev, rprev, ptol * rho_c):  # ptol in K of sensible heat
                 fin = True
                 break
             blo, bhi, xprev, rprev, omega = next_iterate(pic, Em, en, rb, blo, bhi, xprev, rprev, omega, ptol * rho_c)
