@@ -96,3 +96,19 @@ def test_mechanics_window_gives_the_full_columns_answer(f, plastic_deep):
         assert reach[0] < M // 2 and reach[-1] == M  # the front crossed the column: the window grew
     else:
         assert max(reach) <= 25  # a thin plastic layer: the far field condensed throughout
+
+
+def test_newton_stops_on_its_quadratic_estimate_only_where_it_is_trusted():
+    """The mechanics Newton stops where its correction r <= mech_tol, or where the next correction of a quadratic
+    convergence, nq r^2, is, after a full step on an unchanged plastic set with r <= NEWTON_TRUST and nq measured
+    (docs/theory/viscoplastic.md, "The mechanics Newton's last iteration"; measured nq ~ 1e-5 to 4e-5)."""
+    from shockfriction.friction.subgrid.inertial_column import NEWTON_TRUST, _newton_converged
+
+    mtol, nq = 1e-13, 8e-6
+    assert NEWTON_TRUST == 1e-5
+    assert _newton_converged(5e-14, -1.0, False, mtol)            # the correction itself
+    assert _newton_converged(8.6e-7, nq, True, mtol)              # next ~6e-18
+    assert not _newton_converged(8.6e-7, -1.0, True, mtol)        # nq not measured yet
+    assert not _newton_converged(8.6e-7, nq, False, mtol)         # a damped step or a changed plastic set
+    assert not _newton_converged(2e-5, 1e-10, True, mtol)         # beyond NEWTON_TRUST
+    assert not _newton_converged(1e-5, 1e-2, True, mtol)          # next ~1e-12: not yet

