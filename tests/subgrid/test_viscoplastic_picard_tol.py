@@ -27,8 +27,9 @@ def _ball(picard_tol, steps=300):
 
 def test_loose_picard_tolerance_costs_little_accuracy_and_saves_sweeps():
     """1e-3 K against the default 1e-6 K at 0.3 us, every column, with the fixed heat share and the ambient melting
-    point (the model of version 0.3): measured tau within 1.9e-5 (relative), Theta(0) within 5.0e-4 K (below the
-    tolerance, which bounds each step's error: "The Picard test"), sweeps 3.26 -> 2.04 per column-step (x0.63).
+    point (the model of version 0.3): measured tau within 2.9e-5 (relative), Theta(0) within 8.4e-4 K (below the
+    tolerance, which bounds each step's error: "The Picard test"; 1.9e-5 and 5.0e-4 K before the return map's
+    series moved the round-off), sweeps 3.26 -> 2.04 per column-step (x0.63).
     (With the test on the increment alone, before issue 26's error bound: 1.8e-6, 3.0e-5 K, 3.84 -> 2.20.)"""
     assert PICARD_TOL == 1e-6
     tau0, T0, s0, lim0 = _ball(PICARD_TOL)
@@ -37,7 +38,7 @@ def test_loose_picard_tolerance_costs_little_accuracy_and_saves_sweeps():
     dT = np.max(np.abs(T1 - T0))
     print(f"\ntau {tau0 / 1e6} MPa; 1e-3 K vs 1e-6 K: tau {dtau:.2e}, Theta(0) {dT:.2e} K, sweeps {s0:.2f} -> {s1:.2f}")
     assert lim0 == 0 and lim1 == 0
-    assert dtau < 2.5e-5 and dT < 6e-4
+    assert dtau < 4e-5 and dT < 1e-3
     assert s1 < 0.68 * s0
 
 

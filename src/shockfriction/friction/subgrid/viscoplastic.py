@@ -133,6 +133,25 @@ def temperatures_of(e, rho_c, rho_L, T0, TF, out, slope):
             out[i, j], slope[i, j], _ = temperature_of(e[i, j], rho_c, rho_L, T0, TF[j])
 
 
+#: |u| up to which (1 + u)^n is summed by :func:`binomial_power` (its first omitted term is below u^9 = 1e-18)
+BINOMIAL_U = 1e-2
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def binomial_power(u, n):
+    """(1 + u)^n by its binomial series to u^8 in nested form, 1 + n u (1 + (n - 1)/2 u (1 + ... (1 + (n - 7)/8 u))):
+    no pow, no division; for |u| <= BINOMIAL_U within 1e-18 of the power (docs/theory/viscoplastic.md, "The return
+    map without pow")."""
+    p = 1.0 + (n - 7.0) * 0.125 * u
+    p = 1.0 + (n - 6.0) * (1.0 / 7.0) * u * p
+    p = 1.0 + (n - 5.0) * (1.0 / 6.0) * u * p
+    p = 1.0 + (n - 4.0) * 0.2 * u * p
+    p = 1.0 + (n - 3.0) * 0.25 * u * p
+    p = 1.0 + (n - 2.0) * (1.0 / 3.0) * u * p
+    p = 1.0 + (n - 1.0) * 0.5 * u * p
+    return 1.0 + n * u * p
+
+
 @njit(cache=True, error_model="numpy")
 def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0):
     """Plastic increment x = d gamma_p >= 0 of |s_tr| - (G + eta_vp/dt) x - Y(eps + x/sqrt3) k_fac = 0,
@@ -155,13 +174,14 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0
     if y_start >= Ymax:  # saturated: Y stays at Ymax, the linear return is exact
         return (s_abs - k) / c, eta_dt / c
     nbk = n * beta * k_fac / SQRT3
-    hb = 1.0 + beta * eps
-    dk = y_start * nbk / hb
+    hb0 = 1.0 + beta * eps
+    dk = y_start * nbk / hb0
     x = (s_abs - k) / (c + dk) if x0 < 0.0 else x0
     last = math.inf
     for _ in range(100):
         hb = 1.0 + beta * (eps + x / SQRT3)
-        y = Y0 * hb ** n
+        u = beta * (x / SQRT3) / hb0  # hb = hb0 (1 + u): Y = y_start (1 + u)^n
+        y = y_start * binomial_power(u, n) if abs(u) <= BINOMIAL_U else Y0 * hb ** n
         if y >= Ymax:
             k = Ymax * k_fac
             dk = 0.0
