@@ -62,6 +62,12 @@ def fast(model, ncol, cells, steps, warmup=20, thickness=20e-6, picard_tol=None,
     return ncol * steps / (clock() - t0)
 
 
+#: Picard sweeps of each melting run: whether the melt onset's slow steps (the z = 0 iteration stagnating until the
+#: step is split) occur is decided at round-off, so they say why one melting timing differs from another
+#: (docs/theory/viscoplastic.md, "The mechanics Newton's last iteration")
+MELT_SWEEPS: list[int] = []
+
+
 def melting(ncol, duration, dt=DT):
     """Column-steps/s of viscoplastic columns under the YLP loading (examples/subgrid/ylp_7075_toolsteel.toml, the
     film regime: the surface melts at 0.17 us), timed from t = 0 to ``duration`` (the slip spread over 245-255 m/s
@@ -73,9 +79,12 @@ def melting(ncol, duration, dt=DT):
                           viscoplastic={"eta_vp": 50.0, "inertia": True, "tresca": False, "depth": depth})
     v = np.linspace(245.0, 255.0, ncol) if ncol > 1 else np.full(1, 250.0)
     steps = int(round(duration / dt))
+    sweeps = 0
     t0 = clock()
     for _ in range(steps):
         sg.step(5e9, v, v, np.inf, np.inf, 1.0, dt)
+        sweeps += int(np.abs(sg.iterations).sum())
+    MELT_SWEEPS.append(sweeps)
     return ncol * steps / (clock() - t0)
 
 
@@ -240,6 +249,8 @@ def main():
         if r:
             f = statistics.median(r)
             print(f"{name:20s} {f:19.4g} {f / tep:23.3g}")
+    if MELT_SWEEPS:
+        print(f"melting run: {MELT_SWEEPS[-1]} Picard sweeps over {args.melt_columns} column(s)")
 
 if __name__ == "__main__":
     main()
