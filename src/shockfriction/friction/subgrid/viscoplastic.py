@@ -162,7 +162,9 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0
 
     Cost (docs/theory/viscoplastic.md, "Cost"): the first Newton iterate is the closed-form linear return with the
     hardening frozen at y_start (no pow); a saturated cell (y_start = Ymax) stops there, exactly; otherwise each
-    correction costs one pow, the hardening slope coming from Y itself, dY/d eps = n beta Y/(1 + beta eps).
+    correction evaluates Y = y_start (1 + u)^n, u = beta (x/sqrt3)/(1 + beta eps), by :func:`binomial_power` where
+    |u| <= BINOMIAL_U and by one pow beyond, the hardening slope coming from Y itself, dY/d eps = n beta Y/(1 + beta
+    eps).
     ``x0`` >= 0: the first iterate instead (a guess from the same cell's last return within the step; Newton from
     either side of the root of a convex decreasing function lands left of it in one step, then climbs)."""
     if G <= 0.0:
