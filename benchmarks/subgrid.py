@@ -62,16 +62,12 @@ def fast(model, ncol, cells, steps, warmup=20, thickness=20e-6, picard_tol=None,
     return ncol * steps / (clock() - t0)
 
 
-#: Picard sweeps of each melting run: whether the melt onset's slow steps (the z = 0 iteration stagnating until the
-#: step is split) occur is decided at round-off, so they say why one melting timing differs from another
-#: (docs/theory/viscoplastic.md, "The mechanics Newton's last iteration")
-MELT_SWEEPS: list[int] = []
-
-
 def melting(ncol, duration, dt=DT):
     """Column-steps/s of viscoplastic columns under the YLP loading (examples/subgrid/ylp_7075_toolsteel.toml, the
     film regime: the surface melts at 0.17 us), timed from t = 0 to ``duration`` (the slip spread over 245-255 m/s
-    so that the columns differ)."""
+    so that the columns differ), and the run's Picard sweeps: whether the melt onset's slow steps occur is decided
+    at round-off, so they say why one melting timing differs from another (docs/theory/viscoplastic.md, "The
+    mechanics Newton's last iteration")."""
     al, steel = get_material("Al7075-T6"), get_material("Steel4340")
     r = scg_shear_ratio(5e9, 300.0, al.scg_g, al.scg_h, al.scg_xi, al.melting_temperature)
     depth = 1.2 * math.sqrt(al.G0 * max(r, 1.0) / al.rho0) * 1e-6  # the deck's depth = "auto" for a 1 us run
@@ -84,8 +80,7 @@ def melting(ncol, duration, dt=DT):
     for _ in range(steps):
         sg.step(5e9, v, v, np.inf, np.inf, 1.0, dt)
         sweeps += int(np.abs(sg.iterations).sum())
-    MELT_SWEEPS.append(sweeps)
-    return ncol * steps / (clock() - t0)
+    return ncol * steps / (clock() - t0), sweeps
 
 
 @njit(cache=True)
@@ -242,15 +237,16 @@ def main():
                                    thickness=kw.get("thickness", 20e-6), picard_tol=kw.get("picard_tol"),
                                    f=kw.get("f", F)))
         if args.melt_columns > 0:
-            rows["melting (YLP)"].append(melting(args.melt_columns, args.melt_time))
+            rate, melt_sweeps = melting(args.melt_columns, args.melt_time)
+            rows["melting (YLP)"].append(rate)
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     print(f"{'':20s} {'column-steps/s':>19s} {'of thermoelastoplastic':>23s}   (load average {load})")
     for name, r in rows.items():
         if r:
             f = statistics.median(r)
             print(f"{name:20s} {f:19.4g} {f / tep:23.3g}")
-    if MELT_SWEEPS:
-        print(f"melting run: {MELT_SWEEPS[-1]} Picard sweeps over {args.melt_columns} column(s)")
+    if rows["melting (YLP)"]:
+        print(f"melting run: {melt_sweeps} Picard sweeps over {args.melt_columns} column(s)")
 
 if __name__ == "__main__":
     main()

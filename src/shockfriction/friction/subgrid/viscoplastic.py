@@ -140,8 +140,8 @@ BINOMIAL_U = 1e-2
 @njit(cache=True, error_model="numpy", inline="always")
 def binomial_power(u, n):
     """(1 + u)^n by its binomial series to u^8 in nested form, 1 + n u (1 + (n - 1)/2 u (1 + ... (1 + (n - 7)/8 u))):
-    no pow, no division; for |u| <= BINOMIAL_U within 1e-18 of the power (docs/theory/viscoplastic.md, "The return
-    map without pow")."""
+    no pow, no division; for |u| <= BINOMIAL_U its truncation is below 1e-18, so it is the power to round-off
+    (measured within one ulp; docs/theory/viscoplastic.md, "The return map without pow")."""
     p = 1.0 + (n - 7.0) * 0.125 * u
     p = 1.0 + (n - 6.0) * (1.0 / 7.0) * u * p
     p = 1.0 + (n - 5.0) * (1.0 / 6.0) * u * p
