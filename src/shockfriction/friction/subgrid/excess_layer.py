@@ -52,6 +52,11 @@ EXCESS_MAX_ITER = 200
 #: (truncation below |binom(n, 9)| u^9 <= 1e-18 relative for n <= 1), else afresh (exp and log)
 SERIES_U = 1e-2
 SERIES_TERMS = 8
+#: step quiet columns without their cells' material state (:func:`quiet_cap`; False: every sweep computes it, the
+#: reference the quiet path is tested against)
+QUIET_COLUMNS = True
+#: relative margin of :func:`quiet_cap`'s yield bound (covers the ulps between the scalar and the vectorised G/G0)
+QUIET_MARGIN = 1e-12
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -116,24 +121,24 @@ def excess_step(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt
     if threads > 1 and nc >= PARALLEL_MIN_COLUMNS:
         _excess_parallel(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                          tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
-                         TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, min(threads * 4, nc))
+                         TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, min(threads * 4, nc), QUIET_COLUMNS)
         return 0
     return _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                          tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
-                         TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, np.uint64(0), np.uint64(nc))
+                         TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, np.uint64(0), np.uint64(nc), QUIET_COLUMNS)
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
 def _excess_parallel(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
-                     TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, nblocks):
+                     TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, nblocks, quiet_ok):
     """:func:`_excess_block` over ``nblocks`` blocks of consecutive columns in parallel."""
     nc = v.shape[1]
     for b in prange(nblocks):
         _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                       tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                       TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, np.uint64(b * nc // nblocks),
-                      np.uint64((b + 1) * nc // nblocks))
+                      np.uint64((b + 1) * nc // nblocks), quiet_ok)
 
 
 @njit(cache=True, error_model="numpy", fastmath={"reassoc"})
@@ -194,6 +199,86 @@ def _layer_solve(V, kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt, s0=
             return hi, W, True  # g is continuous: the root is located to the resolution of s
         s = sn
     return s, W, False
+
+
+@njit(cache=True, error_model="numpy")
+def _cells_hardening(j, M, eps, yhc, yhe, yrc, yr, eps_ref, epsl, yh, hfac, Y0, beta, n, Ymax, bser):
+    """Column j's cells' hardening over the step: epsl = eps, yh = min(Ymax, Y0 (1 + beta eps)^n) carried from the
+    cache yhc, yhe (:func:`_hardening_carry`; afresh where it cannot carry), hfac its slope factor; the cache and
+    the reference's (yrc: yr at eps_ref) stored together, so that a cell that never flowed in excess keeps the
+    reference's bits.  Returns min_c yh."""
+    fresh = False
+    for c in range(M):  # (vectorised; a cell that never flowed in excess shares the reference's yield exactly)
+        epsl[c] = eps[c, j]
+        y = _hardening_carry(yhc[c, j], yhe[c, j], epsl[c], Y0, beta, n, bser)
+        yh[c] = y
+        fresh |= math.isnan(y)
+    if fresh:
+        for c in range(M):
+            if math.isnan(yh[c]):
+                yh[c] = scg_hardening_power(epsl[c], Y0, beta, n)
+    ymin = Ymax
+    for c in range(M):
+        yhc[c, j] = yh[c]
+        yhe[c, j] = epsl[c]
+        yh[c] = min(yh[c], Ymax)
+        ymin = min(ymin, yh[c])
+        hfac[c] = _slope_factor(yh[c], epsl[c], beta, n, Ymax)  # fixed over the step
+    yrc[0, j] = yr
+    yrc[1, j] = eps_ref[j]
+    return ymin
+
+
+@njit(cache=True, error_model="numpy")
+def _quiet_solve(V, kj, cap, s0):
+    """:func:`_layer_solve` where no cell can flow (W = 0 on [0, cap]): the same iteration on g(s) = V - k s, so the
+    same bits.  Returns (s, ok)."""
+    if V <= 0.0 or cap <= 0.0:
+        return 0.0, True
+    if V - kj * cap - 0.0 >= 0.0:
+        return cap, True
+    lo = 0.0
+    hi = cap
+    s = s0 if 0.0 < s0 < cap else 0.0
+    tol = 1e-14 * (V + 1e-6)
+    for _ in range(EXCESS_MAX_ITER):
+        g = V - kj * s - 0.0
+        if abs(g) <= tol:
+            return s, True
+        if g > 0.0:
+            lo = s
+        else:
+            hi = s
+        d = kj + 0.0
+        sn = s + g / d if d > 0.0 else 0.5 * (lo + hi)
+        if not (lo < sn < hi):
+            sn = 0.5 * (lo + hi)
+        if hi - lo <= 1e-15 * cap:
+            return hi, True
+        s = sn
+    return s, False
+
+
+@njit(cache=True, error_model="numpy")
+def quiet_cap(x, F, ymin, cap0, tresca, f, rho_c, T0, es, g_p, h_p, xi, TF):
+    """Is no cell able to flow at the enthalpies x?  Every cell's shear yield k_c = Y_c (G/G0)(p, T_c)/sqrt3 is at
+    least ymin (G/G0)(p, max T)/sqrt3 (G/G0 falls with T where h, xi >= 0, the caller's condition; ymin = min_c Y_c),
+    so where that bound, less QUIET_MARGIN, is not below the cap min(cap0, the Tresca branch at T(x_0)) and no node
+    is on the melt plateau, no cell flows whatever the layer's stress s <= cap: the sweep's outcome does not depend
+    on the cells' material state (docs/theory/viscoplastic.md, "Quiet columns").  Returns (the cap, whether the
+    Coulomb cap cap0 sets it) where it holds, (-1, False) where it does not."""
+    emax = x[0]
+    for i in range(1, x.size):
+        emax = max(emax, x[i])
+    if not emax <= es:
+        return -1.0, False
+    kmin = ymin * scg_shear_ratio(F, T0 + emax / rho_c, g_p, h_p, xi, TF) * INV_SQRT3 * (1.0 - QUIET_MARGIN)
+    cap = cap0
+    if f >= 0.0:
+        cap = min(cap, tresca * scg_shear_ratio(F, T0 + x[0] / rho_c, g_p, h_p, xi, TF))
+    if not (kmin > 0.0 and cap <= kmin):
+        return -1.0, False
+    return cap, cap == cap0
 
 
 @njit(cache=True, error_model="numpy", fastmath={"reassoc"})
@@ -568,7 +653,7 @@ def _column_heat(e, en, Tout, src, w, cl, cu, dt, rho_c, rho_L, T0, TF, fixed_fa
 @njit(cache=True, error_model="numpy")
 def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                   tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
-                  TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, j0, j1):
+                  TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, j0, j1, quiet_ok=True):
     """Advance the columns j0 <= j < j1 (unsigned) by dt, one at a time (see the module docstring; arrays and
     outputs as :func:`~shockfriction.friction.subgrid.inertial_column._inertial_block` with far_end = "excess").  A
     column whose Picard iteration does not converge in max_iter sweeps is left as it was for the caller to redo
@@ -589,6 +674,8 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
     tresca = f * Ymax / SQRT3
     eta_dt = max(eta_vp, EXCESS_MIN_ETA) / dt
+    # G/G0 falls with T and the hardening grows with eps: quiet_cap's bound holds
+    can_quiet = quiet_ok and h_p >= 0.0 and xi >= 0.0 and beta_h >= 0.0 and n_h >= 0.0
     al2v = np.zeros(nc)  # the other body: heat taken from node 0 over the step, al2 T'(0) + be2
     be2v = np.zeros(nc)
     other_body_response(T2, c2, a2, dt, oth, al2v, be2v, j0, j1)
@@ -634,29 +721,23 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
         # (the hardening carried from the last step: yrc[0, j], yrc[1, j] the reference's Y0 (1 + beta eps)^n and
         # its strain; yhc, yhe (M, nc) the cells')
         yr = _hardening(yrc[0, j], yrc[1, j], eps_ref[j], Y0, beta_h, n_h, bser)
-        yrc[0, j] = yr
-        yrc[1, j] = eps_ref[j]
         yref = min(yr, Ymax)
         kfr = scg_shear_ratio_simd(F, T0, g_p, h_p, xi, TFj) * INV_SQRT3  # as the cells' (the same bits at T0)
         kref = yref * kfr
         href = kfr * _slope_factor(yref, eps_ref[j], beta_h, n_h, Ymax)
         hrden = eta_dt + href
         gather_predict(e, de, de2, j, el, d1, d2, Em, pw)  # the first Picard iterate
-        fresh = False
-        for c in range(M):  # (vectorised; a cell that never flowed in excess shares the reference's yield exactly)
-            epsl[c] = eps[c, j]
-            y = _hardening_carry(yhc[c, j], yhe[c, j], epsl[c], Y0, beta_h, n_h, bser)
-            yh[c] = y
-            fresh |= math.isnan(y)
-        if fresh:
-            for c in range(M):
-                if math.isnan(yh[c]):
-                    yh[c] = scg_hardening_power(epsl[c], Y0, beta_h, n_h)
-        for c in range(M):
-            yhc[c, j] = yh[c]
-            yhe[c, j] = epsl[c]
-            yh[c] = min(yh[c], Ymax)
-            hfac[c] = _slope_factor(yh[c], epsl[c], beta_h, n_h, Ymax)  # fixed over the step
+        # the cells' hardening, computed at the first sweep that needs it; until then a lower bound of its minimum
+        # (the hardening grows with eps) for quiet_cap
+        hard = False
+        ymin = 0.0
+        if can_quiet:
+            emin = eps[0, j]
+            for c in range(1, M):
+                emin = min(emin, eps[c, j])
+            ymin = min(Ymax, scg_hardening_power(max(emin, 0.0), Y0, beta_h, n_h))
+        es_j = rho_c * (TFj - T0)  # the solidus enthalpy
+        quiet = False
         fin = False
         failed = False
         blo = -np.inf  # bracket of the interface enthalpy root
@@ -672,62 +753,81 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
         q2fin = 0.0
         ts2 = 0.0
         for pic in range(max_iter):
-            # ---- material state at the trial enthalpies
-            for i in range(nn):
-                Tm[i], _, phm[i] = temperature_of(Em[i], rho_c, rho_L, T0, TFj)
-            # (loops without branches, which vectorise along the column: the exponential and the power inlined)
-            melt = False
-            for c in range(M):
-                ph = 0.5 * (phm[c] + phm[c + 1])
-                phc[c] = ph
-                r = scg_shear_ratio_simd(F, 0.5 * (Tm[c] + Tm[c + 1]), g_p, h_p, xi, TFj)
-                r = r if ph <= 0.0 else 0.0
-                melt |= r <= 0.0
-                G[c] = G0 * r
-                kf = r * INV_SQRT3
-                kc[c] = yh[c] * kf
-                hden[c] = eta_dt + kf * hfac[c]  # + d k/d gamma_p
-            if melt:  # a cell with melt: a liquid layer ph dz in series with rigid solid (sub-cell film)
+            quiet = False
+            if can_quiet:  # no cell can flow at these enthalpies: the material state is not needed
+                cap, _ = quiet_cap(Em, F, ymin, tau_cap[j], tresca, f, rho_c, T0, es_j, g_p, h_p, xi, TFj)
+                quiet = cap >= 0.0
+            if not quiet and not hard:
+                ymin = _cells_hardening(j, M, eps, yhc, yhe, yrc, yr, eps_ref, epsl, yh, hfac, Y0, beta_h, n_h,
+                                        Ymax, bser)
+                hard = True
+            if quiet:
+                s_x, ok_x = _quiet_solve(abs(vf), kj, cap, abs(tau[j]) if pic == 0 else s_x)
+                wlay = 0.0
+                ts = sgn * s_x
+                if not ok_x:
+                    failed = True
+                    break
+                for i in range(nn):
+                    vl[i] = 0.0
+                    src[i] = 0.0
+            else:
+                # ---- material state at the trial enthalpies
+                for i in range(nn):
+                    Tm[i], _, phm[i] = temperature_of(Em[i], rho_c, rho_L, T0, TFj)
+                # (loops without branches, which vectorise along the column: the exponential and the power inlined)
+                melt = False
                 for c in range(M):
-                    eta[c] = 0.0
-                    if G[c] <= 0.0:
-                        hden[c] = 1.0
-                        eta[c] = liquid_viscosity(0.5 * (Tm[c] + Tm[c + 1]), eta_F, E_R, T_F0, TFj,
-                                                  max(F, 0.0) * V_R) / max(phc[c], PHI_MIN)
-            cap = tau_cap[j]
-            if f >= 0.0:
-                cap = min(cap, tresca * scg_shear_ratio(F, Tm[0], g_p, h_p, xi, TFj))
-            # ---- the layer's uniform stress
-            s_x, wlay, ok_x = _layer_solve(abs(vf), kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt,
-                                           abs(tau[j]) if pic == 0 else s_x)
-            ts = sgn * s_x
-            if not ok_x:
-                failed = True
-                break
-            # ---- cell rates, heat sources, the velocity profile
-            xr = (s_x - kref) / hrden if s_x > kref else 0.0
-            for c in range(M):  # solid cells (vectorised)
-                xc = (s_x - kc[c]) / hden[c]
-                r = (xc - xr) / dt if s_x > kc[c] and xc > xr else 0.0
-                rc[c] = r
-                dgp[c] = sgn * r * dt
-                gdm[c] = 0.0
-                hc[c] = beta_Q * s_x * r * dt * dz[c]
-            if melt:
-                for c in range(M):
-                    if G[c] <= 0.0:
-                        r = s_x / eta[c]
-                        rc[c] = r
-                        dgp[c] = 0.0
-                        gdm[c] = sgn * r
-                        hc[c] = eta[c] * r * r * dt * dz[c]
-            vl[M] = 0.0
-            for c in range(M - 1, -1, -1):
-                vl[c] = vl[c + 1] + sgn * rc[c] * dz[c]
-            src[0] = 0.5 * hc[0]  # each cell's heat, half to each of its nodes
-            for i in range(1, M):
-                src[i] = 0.5 * hc[i] + 0.5 * hc[i - 1]
-            src[M] = 0.5 * hc[M - 1]
+                    ph = 0.5 * (phm[c] + phm[c + 1])
+                    phc[c] = ph
+                    r = scg_shear_ratio_simd(F, 0.5 * (Tm[c] + Tm[c + 1]), g_p, h_p, xi, TFj)
+                    r = r if ph <= 0.0 else 0.0
+                    melt |= r <= 0.0
+                    G[c] = G0 * r
+                    kf = r * INV_SQRT3
+                    kc[c] = yh[c] * kf
+                    hden[c] = eta_dt + kf * hfac[c]  # + d k/d gamma_p
+                if melt:  # a cell with melt: a liquid layer ph dz in series with rigid solid (sub-cell film)
+                    for c in range(M):
+                        eta[c] = 0.0
+                        if G[c] <= 0.0:
+                            hden[c] = 1.0
+                            eta[c] = liquid_viscosity(0.5 * (Tm[c] + Tm[c + 1]), eta_F, E_R, T_F0, TFj,
+                                                      max(F, 0.0) * V_R) / max(phc[c], PHI_MIN)
+                cap = tau_cap[j]
+                if f >= 0.0:
+                    cap = min(cap, tresca * scg_shear_ratio(F, Tm[0], g_p, h_p, xi, TFj))
+                # ---- the layer's uniform stress
+                s_x, wlay, ok_x = _layer_solve(abs(vf), kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt,
+                                               abs(tau[j]) if pic == 0 else s_x)
+                # ---- cell rates, heat sources, the velocity profile
+                xr = (s_x - kref) / hrden if s_x > kref else 0.0
+                for c in range(M):  # solid cells (vectorised)
+                    xc = (s_x - kc[c]) / hden[c]
+                    r = (xc - xr) / dt if s_x > kc[c] and xc > xr else 0.0
+                    rc[c] = r
+                    dgp[c] = sgn * r * dt
+                    gdm[c] = 0.0
+                    hc[c] = beta_Q * s_x * r * dt * dz[c]
+                if melt:
+                    for c in range(M):
+                        if G[c] <= 0.0:
+                            r = s_x / eta[c]
+                            rc[c] = r
+                            dgp[c] = 0.0
+                            gdm[c] = sgn * r
+                            hc[c] = eta[c] * r * r * dt * dz[c]
+                vl[M] = 0.0
+                for c in range(M - 1, -1, -1):
+                    vl[c] = vl[c + 1] + sgn * rc[c] * dz[c]
+                src[0] = 0.5 * hc[0]  # each cell's heat, half to each of its nodes
+                for i in range(1, M):
+                    src[i] = 0.5 * hc[i] + 0.5 * hc[i - 1]
+                src[M] = 0.5 * hc[M - 1]
+                ts = sgn * s_x
+                if not ok_x:
+                    failed = True
+                    break
             # the friction work ts [V]^n: the layer takes ts W, the surface the rest
             vh = vf - ts * kj
             vm = 0.5 * (vh + vp)
@@ -749,6 +849,11 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
                 break
             # ---- Picard convergence on the enthalpies that set G, Y and eta; else the next sweep's
             iters[j] = pic + 1
+            if quiet and cap == tau_cap[j]:  # the Coulomb cap and no flow: is that so at en too?
+                cap_n, coul_n = quiet_cap(en, F, ymin, tau_cap[j], tresca, f, rho_c, T0, es_j, g_p, h_p, xi, TFj)
+                if cap_n >= 0.0 and coul_n:  # then the sweep map is constant: en is its fixed point
+                    fin = True
+                    break
             if picard_converged(pic, en, Em, rb, omega, xprev, rprev, ptol * rho_c):  # ptol in K of sensible heat
                 fin = True
                 break
@@ -766,6 +871,14 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
         # the reference's plastic strain increment at the step's stress, which every solid cell shares
         dref = _linear_increment(abs(ts), kref, href, eta_dt) / SQRT3
         eps_ref[j] += dref
+        if quiet:  # no cell flowed, none is molten: the same bits as the loop below with dgp = 0
+            for c in range(M):
+                eps[c, j] = eps[c, j] + dref
+            film[j] = 0.0
+            for i in range(nn):
+                v[i, j] = 0.0
+            commit_heat(e, T, de, de2, j, el, en, d1, Tit)
+            continue
         thick = 0.0
         wpl = energy[E_PLASTIC, j]
         wvi = energy[E_VISCOUS, j]
