@@ -34,6 +34,7 @@ import os
 import statistics
 import time
 
+import numba
 import numpy as np
 from numba import njit
 from scipy.linalg import solve_banded
@@ -202,6 +203,9 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--wall", action="store_true", help="time with the wall clock instead of CPU time")
     args = ap.parse_args()
+    # one thread: the CPU time of a parallel kernel counts its idle workers' spinning (without this the chapter 8
+    # column measured 2.7e5-8.2e5 column-steps/s from one process to the next on the 2-core machine, 2026-11-28)
+    numba.set_num_threads(1)
     global clock
     clock = time.perf_counter if args.wall else time.process_time
     fast("thermoelastic", 2, 10, 1)  # compile

@@ -125,3 +125,4 @@ def test_binomial_power_is_the_power_where_the_return_map_uses_it(n):
     u = np.linspace(-BINOMIAL_U, BINOMIAL_U, 4001)
     series = np.array([binomial_power(x, n) for x in u])
     assert np.max(np.abs(series / (1.0 + u) ** n - 1.0)) < 4.5e-16
+

@@ -165,6 +165,9 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0
     correction evaluates Y = y_start (1 + u)^n, u = beta (x/sqrt3)/(1 + beta eps), by :func:`binomial_power` where
     |u| <= BINOMIAL_U and by one pow beyond, the hardening slope coming from Y itself, dY/d eps = n beta Y/(1 + beta
     eps).
+    The iteration stops where the correction is within 1e-15 of x, or where the next one, estimated from the
+    curvature of the hardening (Newton's error e' = |f''|/(2 |f'|) e^2), is (docs/theory/viscoplastic.md, "The return
+    map's last correction").
     ``x0`` >= 0: the first iterate instead (a guess from the same cell's last return within the step; Newton from
     either side of the root of a convex decreasing function lands left of it in one step, then climbs)."""
     if G <= 0.0:
@@ -176,6 +179,7 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0
     if y_start >= Ymax:  # saturated: Y stays at Ymax, the linear return is exact
         return (s_abs - k) / c, eta_dt / c
     nbk = n * beta * k_fac / SQRT3
+    qn = n * (n - 1.0) * beta * beta / 3.0
     hb0 = 1.0 + beta * eps
     dk = y_start * nbk / hb0
     x = (s_abs - k) / (c + dk) if x0 < 0.0 else x0
@@ -193,6 +197,14 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0
         dx = (s_abs - c * x - k) / (c + dk)
         x += dx
         if abs(dx) <= 1e-15 * x or abs(dx) >= last:  # converged, or stalled at the round-off of the residual
+            break
+        # Newton's next correction, |k''|/(2 (c + dk)) dx^2 with k'' = k_fac Y''/3, Y'' = n (n - 1) beta^2 Y/hb^2
+        # (0 where Y is saturated: the step just taken was exact): converged where that is within the tolerance
+        if dk == 0.0:
+            break
+        kpp = qn * y * k_fac / (hb * hb)  # k'' = n (n - 1) beta^2 Y k_fac/(3 hb^2)
+        if 0.5 * abs(kpp) / (c + dk) * (dx * dx) <= 1e-15 * x:
+            dk += kpp * dx  # the tangent at the new x (to O(dx^2))
             break
         last = abs(dx)
     return x, (eta_dt + dk) / (c + dk)
