@@ -32,9 +32,11 @@ from shockfriction.friction.subgrid.viscoplastic import (
     BAD_INPUT, E_NUMERICAL, E_PLASTIC, E_RADIATED,
     E_SOFTENING, E_VISCOUS, NO_CONVERGENCE, OK, P_BETA_Q, P_BETA_T, P_C, P_E_R, P_ETA_F, P_ETA_VP, P_F,
     P_HEAT_TOL, P_INERTIA, P_KAPPA, P_L, P_MAX_NEWTON, P_MECH_TOL, P_PICARD_TOL, P_RHO, P_T0, P_T_FAR, P_V_R, P_Z,
-    PHI_MIN, SQRT3, _cell_state, liquid_viscosity, other_body_response, temperature_of)
+    PHI_MIN, SQRT3, BINOMIAL_U, _cell_state, binomial_power, liquid_viscosity, other_body_response, return_map,
+    temperature_of)
 from shockfriction.materials.strength import (
-    I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio, scg_shear_ratio_simd)
+    I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, exp_inline, log_inline, scg_shear_ratio,
+    scg_shear_ratio_simd)
 
 #: cells kept in the mechanics window below the deepest cell that flowed plastically (docs/theory/viscoplastic.md,
 #: "Cost"); a far cell that flows at the solution grows the window
@@ -80,26 +82,107 @@ def _inertial_parallel(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_
                         np.uint64((b + 1) * nc // nblocks))
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _correction(a, cc, x, ys, ub, kf, n, Ymax):
+    """One Newton correction of the return equation a - cc x - k(x) = 0 at x, k = min(Ymax, y_start (1 + u)^n) k_fac,
+    u = x ub (the binomial series where |u| <= BINOMIAL_U, the inlined exp and log beyond: no branch, no call);
+    returns (x + dx, dx, dk/dx at x, k'' at x, cc + dk/dx)."""
+    u = x * ub
+    hb = 1.0 + u
+    p = binomial_power(u, n) if abs(u) <= BINOMIAL_U else exp_inline(n * log_inline(hb))
+    y = ys * p
+    below = y < Ymax
+    dk = kf * n * ub * y / hb if below else 0.0
+    den = cc + dk
+    dx = (a - cc * x - (y if below else Ymax) * kf) / den
+    kpp = n * (n - 1.0) * ub * ub * kf * y / (hb * hb) if below else 0.0
+    return x + dx, dx, dk, kpp, den
+
+
 @njit(cache=True, error_model="numpy")
-def _cells(vo, vt, nw, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta, n, Ymax, eta_vp, S, Kc, gdm, snew, dgp):
+def _returns(nq, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax):
+    """The return maps of the nq plastic cells gathered by :func:`_cells` (|s_tr| qa, G qg, k_fac qkf, y_start qy,
+    eps qeps, the first iterate qx: the cell's last increment in this step, < 0: none), in one loop without
+    branches that vectorises: from the first iterate (else the closed-form linear return with the hardening slope at
+    the start of the step), two Newton corrections (:func:`_correction`) and the estimate of the next one
+    (:func:`~shockfriction.friction.subgrid.viscoplastic.return_map`'s, the tangent carried to the new x); qx, qd the
+    increment and d|s'|/d|s_tr|, qok 1 where the estimate is within the tolerance, else 0 (the caller redoes the
+    cell by ``return_map``: the same root to its tolerance)."""
+    for q in range(nq):
+        a = qa[q]
+        kf = qkf[q]
+        ys = qy[q]
+        cc = qg[q] + eta_dt
+        ub = beta / (SQRT3 * (1.0 + beta * qeps[q]))  # Y = y_start (1 + u)^n, u = x ub
+        dk0 = kf * n * ub * ys if ys < Ymax else 0.0
+        x1 = qx[q] if qx[q] >= 0.0 else (a - ys * kf) / (cc + dk0)
+        x2, _, _, _, _ = _correction(a, cc, x1, ys, ub, kf, n, Ymax)
+        x3, dx, dk, kpp, den = _correction(a, cc, x2, ys, ub, kf, n, Ymax)
+        ok = 0.5 * abs(kpp) / den * (dx * dx) <= 1e-15 * x3 or abs(dx) <= 1e-15 * x3
+        dk2 = dk + kpp * dx
+        qx[q] = x3
+        qd[q] = (eta_dt + dk2) / (cc + dk2)
+        qok[q] = 1.0 if ok else 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def _cells(vo, vt, nw, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta, n, Ymax, eta_vp, S, Kc, gdm, snew, dgp,
+           qi, qa, qg, qkf, qy, qeps, qx, qd, qok):
     """Stresses S[c + 1], stiffnesses Kc[c], strain rates gdm, solid stresses snew and plastic increments dgp of the
-    cells c < nw at the trial velocities vt (vo the old ones), each cell's return map started from its last
-    increment dgp in this step (the same root to round-off in about two corrections instead of three or four);
-    returns the number of solid cells that flow plastically and the deepest one + 1 (0: none)."""
+    cells c < nw at the trial velocities vt (vo the old ones) (:func:`~shockfriction.friction.subgrid.viscoplastic.
+    _cell_state`'s, th = 1); returns the number of solid cells that flow plastically and the deepest one + 1 (0:
+    none).  Three passes (docs/theory/viscoplastic.md, "The return maps across the cells"): elastic and molten cells
+    directly, the plastic ones gathered (qi their indices, q* their data; each started from its last increment in
+    this step), their return maps in one vectorised loop (:func:`_returns`), then scattered, a cell whose estimate
+    was not within the tolerance redone by ``return_map``."""
+    eta_dt = eta_vp / dt
     npl = 0
     deep = 0
     for c in range(nw):
-        x0 = abs(dgp[c]) if dgp[c] != 0.0 and G[c] > 0.0 else -1.0  # the cell's last increment in this step
-        gd, sn, dg, Sm, K = _cell_state(vo[c] - vo[c + 1], vt[c] - vt[c + 1], dz[c], dt, G[c], ge[c], eps[c], yh[c],
-                                        eta[c], kf[c], sold[c], Y0, beta, n, Ymax, eta_vp, 1.0, x0)
-        S[c + 1] = Sm
-        Kc[c] = K
+        gd = (vt[c] - vt[c + 1]) / dz[c]
         gdm[c] = gd
+        g = G[c]
+        if g <= 0.0:  # molten: no solid stress; its stored elastic strain is released as plastic strain
+            S[c + 1] = eta[c] * gd
+            Kc[c] = eta[c] / dz[c]
+            snew[c] = 0.0
+            dgp[c] = ge[c] + dt * gd
+            continue
+        s_tr = g * (ge[c] + dt * gd)
+        if abs(s_tr) <= yh[c] * kf[c]:  # elastic
+            S[c + 1] = s_tr + eta[c] * gd
+            Kc[c] = (g * dt + eta[c]) / dz[c]
+            snew[c] = s_tr
+            dgp[c] = 0.0
+            continue
+        qi[npl] = c
+        qa[npl] = abs(s_tr)
+        qg[npl] = g
+        qkf[npl] = kf[c]
+        qy[npl] = yh[c]
+        qeps[npl] = eps[c]
+        qx[npl] = abs(dgp[c]) if dgp[c] != 0.0 else -1.0  # the cell's last increment in this step
+        snew[c] = s_tr  # (the trial stress, until the scatter)
+        npl += 1
+        deep = c + 1
+    if npl == 0:
+        return 0, 0
+    _returns(npl, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax)
+    for q in range(npl):
+        c = qi[q]
+        x = qx[q]
+        d = qd[q]
+        if qok[q] == 0.0:
+            x0 = abs(dgp[c]) if dgp[c] != 0.0 else -1.0
+            x, d = return_map(qa[q], qg[q], eta_dt, eps[c], yh[c], kf[c], Y0, beta, n, Ymax, x0)
+        s_tr = snew[c]
+        g = qg[q]
+        sg = 1.0 if s_tr >= 0.0 else -1.0
+        sn = s_tr - sg * g * x
         snew[c] = sn
-        dgp[c] = dg
-        if dg != 0.0 and G[c] > 0.0:
-            npl += 1
-            deep = c + 1
+        S[c + 1] = sn + eta[c] * gdm[c]
+        Kc[c] = (d * g * dt + eta[c]) / dz[c]
+        dgp[c] = sg * x
     return npl, deep
 
 
@@ -229,6 +312,10 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
         cells[10], cells[11], cells[12])
     gen, wpc, wvc, wsc = cells[13], cells[14], cells[15], cells[16]  # new elastic strain, works per area
     dgt = cells[17]  # the far field's plastic increments at its test
+    qcells = np.empty((8, M))  # the plastic cells gathered for their return maps (_cells)
+    qa, qg, qkf, qy, qeps, qx, qd, qok = (qcells[0], qcells[1], qcells[2], qcells[3], qcells[4], qcells[5],
+                                          qcells[6], qcells[7])
+    qi = np.empty(M, dtype=np.int64)
     for j in range(j0, j1):
         F, vf, vp, kj = F_N[j], v_free[j], v_prev[j], k[j]
         TFj = TF[j]
@@ -313,7 +400,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                 for it in range(max_newton):
                     if not fresh:
                         npl, deep = _cells(vo, vn, nw, dz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
-                                           Ymax, eta_vp, S, Kc, gdm, snew, dgp)
+                                           Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     # surface row
                     if stick:
                         if kj > 0.0:
@@ -366,7 +453,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                         vt[i] = vn[i] + rhs[i]
                     plv = npl
                     npl, deep = _cells(vo, vt, nw, dz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax,
-                                       eta_vp, S, Kc, gdm, snew, dgp)
+                                       eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     for ls in range(12):
                         g = _slope(vt, vo, rhs, S, mass, dt, stick, kj, vf, ts, nw, far_a, far_z)
                         if ls == 0:
@@ -396,7 +483,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                         for i in range(nw + 1):
                             vt[i] = vn[i] + ls_a * rhs[i]
                         npl, deep = _cells(vo, vt, nw, dz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
-                                           Ymax, eta_vp, S, Kc, gdm, snew, dgp)
+                                           Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     fresh = True
                     dmx = 0.0
                     for i in range(nw + 1):
