@@ -126,62 +126,70 @@ def _returns(nq, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax):
 
 
 @njit(cache=True, error_model="numpy")
-def _cells(vo, vt, nw, dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta, n, Ymax, eta_vp, S, Kc, gdm, snew, dgp,
+def _cells(vo, vt, nw, dz, idz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta, n, Ymax, eta_vp, S, Kc, gdm, snew, dgp,
            qi, qa, qg, qkf, qy, qeps, qx, qd, qok):
     """Stresses S[c + 1], stiffnesses Kc[c], strain rates gdm, solid stresses snew and plastic increments dgp of the
-    cells c < nw at the trial velocities vt (vo the old ones) (:func:`~shockfriction.friction.subgrid.viscoplastic.
-    _cell_state`'s, th = 1); returns the number of solid cells that flow plastically and the deepest one + 1 (0:
-    none).  Three passes (docs/theory/viscoplastic.md, "The return maps across the cells"): elastic and molten cells
-    directly, the plastic ones gathered (qi their indices, q* their data; each started from its last increment in
-    this step), their return maps in one vectorised loop (:func:`_returns`), then scattered, a cell whose estimate
-    was not within the tolerance redone by ``return_map``."""
+    cells c < nw at the trial velocities vt (vo the old ones; backward Euler, the plastic increment that of
+    :func:`~shockfriction.friction.subgrid.viscoplastic.return_map`; idz = 1/dz); returns the number of solid cells
+    that flow plastically and the deepest one + 1 (0: none).  In passes (docs/theory/viscoplastic.md, "The return
+    maps across the cells"): every cell's trial state (vectorised), the linear (elastic, molten) cells' values, the
+    plastic cells' return maps in one vectorised loop (:func:`_returns`; each started from its last increment in
+    this step; where they are the cells 0 .. deep - 1, the common case, on the column's own arrays, else gathered
+    into q*, qi their indices), a cell whose estimate was not within the tolerance redone by ``return_map``."""
     eta_dt = eta_vp / dt
     npl = 0
     deep = 0
-    for c in range(nw):
-        gd = (vt[c] - vt[c + 1]) / dz[c]
+    for c in range(nw):  # (no branches)
+        gd = (vt[c] - vt[c + 1]) * idz[c]
+        s_tr = G[c] * (ge[c] + dt * gd)
         gdm[c] = gd
-        g = G[c]
-        if g <= 0.0:  # molten: no solid stress; its stored elastic strain is released as plastic strain
-            S[c + 1] = eta[c] * gd
-            Kc[c] = eta[c] / dz[c]
-            snew[c] = 0.0
-            dgp[c] = ge[c] + dt * gd
-            continue
-        s_tr = g * (ge[c] + dt * gd)
-        if abs(s_tr) <= yh[c] * kf[c]:  # elastic
-            S[c + 1] = s_tr + eta[c] * gd
-            Kc[c] = (g * dt + eta[c]) / dz[c]
-            snew[c] = s_tr
-            dgp[c] = 0.0
-            continue
-        qi[npl] = c
-        qa[npl] = abs(s_tr)
-        qg[npl] = g
-        qkf[npl] = kf[c]
-        qy[npl] = yh[c]
-        qeps[npl] = eps[c]
-        qx[npl] = abs(dgp[c]) if dgp[c] != 0.0 else -1.0  # the cell's last increment in this step
-        snew[c] = s_tr  # (the trial stress, until the scatter)
-        npl += 1
-        deep = c + 1
+        snew[c] = s_tr
+        pl = G[c] > 0.0 and abs(s_tr) > yh[c] * kf[c]
+        npl += 1 if pl else 0
+        deep = max(deep, c + 1 if pl else 0)
+    dense = npl == deep
+    for c in range(npl if dense else 0, nw):  # elastic and molten cells (no branches; the plastic ones redone below)
+        solid = G[c] > 0.0
+        gd = gdm[c]
+        sn = snew[c] if solid else 0.0
+        snew[c] = sn
+        S[c + 1] = sn + eta[c] * gd
+        Kc[c] = (G[c] * dt + eta[c]) * idz[c]
+        dgp[c] = 0.0 if solid else ge[c] + dt * gd  # a molten cell releases its stored elastic strain
     if npl == 0:
         return 0, 0
-    _returns(npl, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax)
+    if dense:
+        for c in range(npl):
+            qa[c] = abs(snew[c])
+            qx[c] = abs(dgp[c]) if dgp[c] != 0.0 else -1.0  # the cell's last increment in this step
+        _returns(npl, qa, G, kf, yh, eps, qx, qd, qok, eta_dt, beta, n, Ymax)
+    else:
+        q = 0
+        for c in range(deep):
+            if G[c] > 0.0 and abs(snew[c]) > yh[c] * kf[c]:
+                qi[q] = c
+                qa[q] = abs(snew[c])
+                qg[q] = G[c]
+                qkf[q] = kf[c]
+                qy[q] = yh[c]
+                qeps[q] = eps[c]
+                qx[q] = abs(dgp[c]) if dgp[c] != 0.0 else -1.0
+                q += 1
+        _returns(npl, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax)
     for q in range(npl):
-        c = qi[q]
+        c = q if dense else qi[q]
         x = qx[q]
         d = qd[q]
         if qok[q] == 0.0:
             x0 = abs(dgp[c]) if dgp[c] != 0.0 else -1.0
-            x, d = return_map(qa[q], qg[q], eta_dt, eps[c], yh[c], kf[c], Y0, beta, n, Ymax, x0)
+            x, d = return_map(qa[q], G[c], eta_dt, eps[c], yh[c], kf[c], Y0, beta, n, Ymax, x0)
         s_tr = snew[c]
-        g = qg[q]
+        g = G[c]
         sg = 1.0 if s_tr >= 0.0 else -1.0
         sn = s_tr - sg * g * x
         snew[c] = sn
         S[c + 1] = sn + eta[c] * gdm[c]
-        Kc[c] = (d * g * dt + eta[c]) / dz[c]
+        Kc[c] = (d * g * dt + eta[c]) * idz[c]
         dgp[c] = sg * x
     return npl, deep
 
@@ -281,6 +289,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
     Y0, beta_h, n_h, Ymax = p[I_Y0], p[I_BETA], p[I_N], p[I_YMAX]
     g_p, h_p, xi = p[I_G], p[I_H], p[I_XI]
     tresca = f * Ymax / SQRT3
+    idz = 1.0 / dz  # (the cell passes multiply)
     mass = np.empty(nn)
     for i in range(nn):
         mass[i] = rho * w[i] if inertia else 0.0
@@ -399,7 +408,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                 rlast = -1.0  # the last full Newton step's relative correction (-1: none)
                 for it in range(max_newton):
                     if not fresh:
-                        npl, deep = _cells(vo, vn, nw, dz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
+                        npl, deep = _cells(vo, vn, nw, dz, idz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
                                            Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     # surface row
                     if stick:
@@ -452,7 +461,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                     for i in range(nw + 1):
                         vt[i] = vn[i] + rhs[i]
                     plv = npl
-                    npl, deep = _cells(vo, vt, nw, dz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax,
+                    npl, deep = _cells(vo, vt, nw, dz, idz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax,
                                        eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     for ls in range(12):
                         g = _slope(vt, vo, rhs, S, mass, dt, stick, kj, vf, ts, nw, far_a, far_z)
@@ -482,7 +491,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                         ls_a = a_new
                         for i in range(nw + 1):
                             vt[i] = vn[i] + ls_a * rhs[i]
-                        npl, deep = _cells(vo, vt, nw, dz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
+                        npl, deep = _cells(vo, vt, nw, dz, idz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
                                            Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     fresh = True
                     dmx = 0.0
