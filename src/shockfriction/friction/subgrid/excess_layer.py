@@ -872,11 +872,13 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
         dref = _linear_increment(abs(ts), kref, href, eta_dt) / SQRT3
         eps_ref[j] += dref
         if quiet:  # no cell flowed, none is molten: the same bits as the loop below with dgp = 0
-            for c in range(M):
-                eps[c, j] = eps[c, j] + dref
+            if dref != 0.0:  # (eps + 0 = eps: nothing to write)
+                for c in range(M):
+                    eps[c, j] = eps[c, j] + dref
             film[j] = 0.0
-            for i in range(nn):
-                v[i, j] = 0.0
+            if v[0, j] != 0.0:  # (the profile sums flows of one sign from the far end: zero at z = 0, zero all along)
+                for i in range(nn):
+                    v[i, j] = 0.0
             commit_heat(e, T, de, de2, j, el, en, d1, Tit)
             continue
         thick = 0.0
