@@ -163,7 +163,6 @@ def test_cells_pass_against_the_return_map_cell_by_cell(layout):
     else:
         ge = yh * kf / np.maximum(G, 1.0) * rng.uniform(-1.2, 1.2, M)
     sold = G * ge
-    vo = np.zeros(M + 1)
     vt = np.concatenate([np.cumsum((dgam * dz / dt)[::-1])[::-1], [0.0]])
     for guess in (False, True):
         out = [np.zeros(M + 2), np.zeros(M), np.zeros(M), np.zeros(M), np.zeros(M)]
@@ -175,8 +174,8 @@ def test_cells_pass_against_the_return_map_cell_by_cell(layout):
             out[4][:] = [dg * (1.0 + 1e-3 * rng.standard_normal()) if G[c] > 0.0 else 0.0
                          for c, (_, _, dg, _, _) in enumerate(ref)]
         scratch = [np.empty(M) for _ in range(8)]
-        npl, deep = _cells(vo, vt, M, dz, 1.0 / dz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta, n, Ymax, eta_vp,
-                           *out, np.empty(M, dtype=np.int64), *scratch)
+        npl, deep = _cells(vt, M, 1.0 / dz, dt, G, ge, eps, yh, eta, kf, Y0, beta, n, Ymax, eta_vp, *out,
+                           np.empty(M, dtype=np.int64), *scratch)
         S, Kc, gdm, snew, dgp = out
         plastic = 0
         for c, (gd, sn, dg, Sm, K) in enumerate(ref):

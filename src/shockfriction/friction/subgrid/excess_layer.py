@@ -165,15 +165,18 @@ def _layer_rate(s, M, G, kc, hden, eta, dz, kref, hrden, dt, melt):
 
 
 @njit(cache=True, error_model="numpy")
-def _layer_solve(V, kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt, s0=0.0):
+def _layer_solve(V, kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt, s0=0.0, rigid=False):
     """Uniform stress s in [0, cap] of one column's layer: the root of g(s) = V - k s - W(s) (V = |[V*]|, k the
     partner compliance), or s = cap where g(cap) >= 0 (the surface slides at the cap).  g(0) = V > 0, g continuous
     and piecewise linear: a safeguarded Newton from s0 (the last sweep's or step's stress where it lies in
-    (0, cap), else 0; exact on each linear piece, bisection where a step leaves the bracket).  Returns
+    (0, cap), else 0; exact on each linear piece, bisection where a step leaves the bracket).  ``rigid``: no cell
+    can flow on [0, cap] (:func:`quiet_cap`), W = 0 without the cells (their arrays are not read).  Returns
     (s, W(s), ok)."""
     if V <= 0.0 or cap <= 0.0:
         return 0.0, 0.0, True
-    Wc, _ = _layer_rate(cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt)
+    Wc = 0.0
+    if not rigid:
+        Wc, _ = _layer_rate(cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt)
     if V - kj * cap - Wc >= 0.0:
         return cap, Wc, True
     lo = 0.0
@@ -182,7 +185,10 @@ def _layer_solve(V, kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt, s0=
     tol = 1e-14 * (V + 1e-6)
     W = 0.0
     for _ in range(EXCESS_MAX_ITER):
-        W, dW = _layer_rate(s, M, G, kc, hden, eta, dz, kref, hrden, dt, melt)
+        W = 0.0
+        dW = 0.0
+        if not rigid:
+            W, dW = _layer_rate(s, M, G, kc, hden, eta, dz, kref, hrden, dt, melt)
         g = V - kj * s - W
         if abs(g) <= tol:
             return s, W, True
@@ -195,7 +201,9 @@ def _layer_solve(V, kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt, s0=
         if not (lo < sn < hi):
             sn = 0.5 * (lo + hi)
         if hi - lo <= 1e-15 * cap:
-            W, _ = _layer_rate(hi, M, G, kc, hden, eta, dz, kref, hrden, dt, melt)
+            W = 0.0
+            if not rigid:
+                W, _ = _layer_rate(hi, M, G, kc, hden, eta, dz, kref, hrden, dt, melt)
             return hi, W, True  # g is continuous: the root is located to the resolution of s
         s = sn
     return s, W, False
@@ -229,34 +237,11 @@ def _cells_hardening(j, M, eps, yhc, yhe, yrc, yr, eps_ref, epsl, yh, hfac, Y0, 
     return ymin
 
 
-@njit(cache=True, error_model="numpy")
-def _quiet_solve(V, kj, cap, s0):
-    """:func:`_layer_solve` where no cell can flow (W = 0 on [0, cap]): the same iteration on g(s) = V - k s, so the
-    same bits.  Returns (s, ok)."""
-    if V <= 0.0 or cap <= 0.0:
-        return 0.0, True
-    if V - kj * cap - 0.0 >= 0.0:
-        return cap, True
-    lo = 0.0
-    hi = cap
-    s = s0 if 0.0 < s0 < cap else 0.0
-    tol = 1e-14 * (V + 1e-6)
-    for _ in range(EXCESS_MAX_ITER):
-        g = V - kj * s - 0.0
-        if abs(g) <= tol:
-            return s, True
-        if g > 0.0:
-            lo = s
-        else:
-            hi = s
-        d = kj + 0.0
-        sn = s + g / d if d > 0.0 else 0.5 * (lo + hi)
-        if not (lo < sn < hi):
-            sn = 0.5 * (lo + hi)
-        if hi - lo <= 1e-15 * cap:
-            return hi, True
-        s = sn
-    return s, False
+@njit(cache=True, inline="always", error_model="numpy")
+def surface_cap(cap0, tresca, f, F, T_s, g_p, h_p, xi, TF):
+    """The cap of the layer's stress: min(cap0 = min(mu0 sigma_n, tau_stick), the Tresca branch f Ymax/sqrt3
+    (G/G0)(p, T(0))) at the surface temperature T_s; cap0 where f < 0 (no Tresca branch)."""
+    return min(cap0, tresca * scg_shear_ratio(F, T_s, g_p, h_p, xi, TF)) if f >= 0.0 else cap0
 
 
 @njit(cache=True, error_model="numpy")
@@ -273,9 +258,7 @@ def quiet_cap(x, F, ymin, cap0, tresca, f, rho_c, T0, es, g_p, h_p, xi, TF):
     if not emax <= es:
         return -1.0, False
     kmin = ymin * scg_shear_ratio(F, T0 + emax / rho_c, g_p, h_p, xi, TF) * INV_SQRT3 * (1.0 - QUIET_MARGIN)
-    cap = cap0
-    if f >= 0.0:
-        cap = min(cap, tresca * scg_shear_ratio(F, T0 + x[0] / rho_c, g_p, h_p, xi, TF))
+    cap = surface_cap(cap0, tresca, f, F, T0 + x[0] / rho_c, g_p, h_p, xi, TF)
     if not (kmin > 0.0 and cap <= kmin):
         return -1.0, False
     return cap, cap == cap0
@@ -762,12 +745,8 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
                                         Ymax, bser)
                 hard = True
             if quiet:
-                s_x, ok_x = _quiet_solve(abs(vf), kj, cap, abs(tau[j]) if pic == 0 else s_x)
-                wlay = 0.0
-                ts = sgn * s_x
-                if not ok_x:
-                    failed = True
-                    break
+                s_x, wlay, ok_x = _layer_solve(abs(vf), kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, False,
+                                               abs(tau[j]) if pic == 0 else s_x, True)
                 for i in range(nn):
                     vl[i] = 0.0
                     src[i] = 0.0
@@ -794,9 +773,7 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
                             hden[c] = 1.0
                             eta[c] = liquid_viscosity(0.5 * (Tm[c] + Tm[c + 1]), eta_F, E_R, T_F0, TFj,
                                                       max(F, 0.0) * V_R) / max(phc[c], PHI_MIN)
-                cap = tau_cap[j]
-                if f >= 0.0:
-                    cap = min(cap, tresca * scg_shear_ratio(F, Tm[0], g_p, h_p, xi, TFj))
+                cap = surface_cap(tau_cap[j], tresca, f, F, Tm[0], g_p, h_p, xi, TFj)
                 # ---- the layer's uniform stress
                 s_x, wlay, ok_x = _layer_solve(abs(vf), kj, cap, M, G, kc, hden, eta, dz, kref, hrden, dt, melt,
                                                abs(tau[j]) if pic == 0 else s_x)
@@ -824,10 +801,10 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
                 for i in range(1, M):
                     src[i] = 0.5 * hc[i] + 0.5 * hc[i - 1]
                 src[M] = 0.5 * hc[M - 1]
-                ts = sgn * s_x
-                if not ok_x:
-                    failed = True
-                    break
+            ts = sgn * s_x
+            if not ok_x:
+                failed = True
+                break
             # the friction work ts [V]^n: the layer takes ts W, the surface the rest
             vh = vf - ts * kj
             vm = 0.5 * (vh + vp)

@@ -27,7 +27,7 @@ from numba import get_num_threads, njit, prange
 
 from shockfriction.friction.subgrid.excess_layer import (
     _column_heat, _heat_factor, commit_heat, commit_surface, forget_history, gather_predict, next_iterate,
-    picard_converged)
+    picard_converged, surface_cap)
 from shockfriction.friction.subgrid.viscoplastic import (
     BAD_INPUT, E_NUMERICAL, E_PLASTIC, E_RADIATED,
     E_SOFTENING, E_VISCOUS, NO_CONVERGENCE, OK, P_BETA_Q, P_BETA_T, P_C, P_E_R, P_ETA_F, P_ETA_VP, P_F,
@@ -35,8 +35,7 @@ from shockfriction.friction.subgrid.viscoplastic import (
     PHI_MIN, SQRT3, BINOMIAL_U, _cell_state, binomial_power, liquid_viscosity, other_body_response, return_map,
     temperature_of)
 from shockfriction.materials.strength import (
-    I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, exp_inline, log_inline, scg_shear_ratio,
-    scg_shear_ratio_simd)
+    I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, exp_inline, log_inline, scg_shear_ratio_simd)
 
 #: cells kept in the mechanics window below the deepest cell that flowed plastically (docs/theory/viscoplastic.md,
 #: "Cost"); a far cell that flows at the solution grows the window
@@ -126,10 +125,10 @@ def _returns(nq, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax):
 
 
 @njit(cache=True, error_model="numpy")
-def _cells(vo, vt, nw, dz, idz, dt, G, ge, eps, yh, eta, kf, sold, Y0, beta, n, Ymax, eta_vp, S, Kc, gdm, snew, dgp,
-           qi, qa, qg, qkf, qy, qeps, qx, qd, qok):
+def _cells(vt, nw, idz, dt, G, ge, eps, yh, eta, kf, Y0, beta, n, Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa,
+           qg, qkf, qy, qeps, qx, qd, qok):
     """Stresses S[c + 1], stiffnesses Kc[c], strain rates gdm, solid stresses snew and plastic increments dgp of the
-    cells c < nw at the trial velocities vt (vo the old ones; backward Euler, the plastic increment that of
+    cells c < nw at the trial velocities vt (backward Euler, the plastic increment that of
     :func:`~shockfriction.friction.subgrid.viscoplastic.return_map`; idz = 1/dz); returns the number of solid cells
     that flow plastically and the deepest one + 1 (0: none).  In passes (docs/theory/viscoplastic.md, "The return
     maps across the cells"): every cell's trial state (vectorised), the linear (elastic, molten) cells' values, the
@@ -388,9 +387,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                         eta[c] = liquid_viscosity(0.5 * (Tm[c] + Tm[c + 1]), eta_F, E_R, T_F0, TFj,
                                                   max(F, 0.0) * V_R) / max(phc[c], PHI_MIN)
             Zc = math.sqrt(rho * G[M - 1])
-            cap = tau_cap[j]
-            if f >= 0.0:
-                cap = min(cap, tresca * scg_shear_ratio(F, Tm[0], g_p, h_p, xi, TFj))
+            cap = surface_cap(tau_cap[j], tresca, f, F, Tm[0], g_p, h_p, xi, TFj)
             # ---- mechanics on the window, the far field condensed
             while True:
                 # row nw's reaction S_(nw+1) = far_a + far_z v_nw: the condensed far field, the impedance at
@@ -408,8 +405,8 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                 rlast = -1.0  # the last full Newton step's relative correction (-1: none)
                 for it in range(max_newton):
                     if not fresh:
-                        npl, deep = _cells(vo, vn, nw, dz, idz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
-                                           Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
+                        npl, deep = _cells(vn, nw, idz, dt, G, gel, epsl, yh, eta, kf, Y0, beta_h, n_h, Ymax, eta_vp,
+                                           S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     # surface row
                     if stick:
                         if kj > 0.0:
@@ -461,8 +458,8 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                     for i in range(nw + 1):
                         vt[i] = vn[i] + rhs[i]
                     plv = npl
-                    npl, deep = _cells(vo, vt, nw, dz, idz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h, Ymax,
-                                       eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
+                    npl, deep = _cells(vt, nw, idz, dt, G, gel, epsl, yh, eta, kf, Y0, beta_h, n_h, Ymax, eta_vp, S,
+                                       Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     for ls in range(12):
                         g = _slope(vt, vo, rhs, S, mass, dt, stick, kj, vf, ts, nw, far_a, far_z)
                         if ls == 0:
@@ -491,8 +488,8 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                         ls_a = a_new
                         for i in range(nw + 1):
                             vt[i] = vn[i] + ls_a * rhs[i]
-                        npl, deep = _cells(vo, vt, nw, dz, idz, dt, G, gel, epsl, yh, eta, kf, sold, Y0, beta_h, n_h,
-                                           Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
+                        npl, deep = _cells(vt, nw, idz, dt, G, gel, epsl, yh, eta, kf, Y0, beta_h, n_h, Ymax, eta_vp,
+                                           S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     fresh = True
                     dmx = 0.0
                     for i in range(nw + 1):
