@@ -43,7 +43,7 @@ def test_return_map_matches_newton(eps, over, eta_dt):
     k_fac = G / G0 / SQRT3
     y_start = min(Ymax, Y0 * (1.0 + beta * eps) ** n)
     s = over * y_start * k_fac
-    x, d = return_map(s, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax)
+    x, d = return_map(s, G, eta_dt, eps, y_start, k_fac, beta, n, Ymax)
     xr, dr = newton_reference(s, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax)
     # within 1e-13, or within the root's round-off: one ulp of the yield (the series against the pow, "The return map
     # without pow") moves x by ~1e-16 s/(G + eta_vp/dt), 1e-12 of x at an overstress of 1e-4 (measured 6.9e-19)
@@ -169,12 +169,12 @@ def test_cells_pass_against_the_return_map_cell_by_cell(layout):
         ref = []
         for c in range(M):
             ref.append(_cell_state(0.0, vt[c] - vt[c + 1], dz[c], dt, G[c], ge[c], eps[c], yh[c], eta[c], kf[c],
-                                   sold[c], Y0, beta, n, Ymax, eta_vp, 1.0))
+                                   sold[c], beta, n, Ymax, eta_vp, 1.0))
         if guess:  # the last pass's increments, 1e-3 off
             out[4][:] = [dg * (1.0 + 1e-3 * rng.standard_normal()) if G[c] > 0.0 else 0.0
                          for c, (_, _, dg, _, _) in enumerate(ref)]
         scratch = [np.empty(M) for _ in range(8)]
-        npl, deep = _cells(vt, M, 1.0 / dz, dt, G, ge, eps, yh, eta, kf, Y0, beta, n, Ymax, eta_vp, *out,
+        npl, deep = _cells(vt, M, 1.0 / dz, dt, G, ge, eps, yh, eta, kf, beta, n, Ymax, eta_vp, *out,
                            np.empty(M, dtype=np.int64), *scratch)
         S, Kc, gdm, snew, dgp = out
         plastic = 0

@@ -32,10 +32,10 @@ from shockfriction.friction.subgrid.viscoplastic import (
     BAD_INPUT, E_NUMERICAL, E_PLASTIC, E_RADIATED,
     E_SOFTENING, E_VISCOUS, NO_CONVERGENCE, OK, P_BETA_Q, P_BETA_T, P_C, P_E_R, P_ETA_F, P_ETA_VP, P_F,
     P_HEAT_TOL, P_INERTIA, P_KAPPA, P_L, P_MAX_NEWTON, P_MECH_TOL, P_PICARD_TOL, P_RHO, P_T0, P_T_FAR, P_V_R, P_Z,
-    PHI_MIN, SQRT3, BINOMIAL_U, _cell_state, binomial_power, liquid_viscosity, other_body_response, return_map,
+    PHI_MIN, SQRT3, _cell_state, liquid_viscosity, other_body_response, return_correction, return_map,
     temperature_of)
 from shockfriction.materials.strength import (
-    I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, exp_inline, log_inline, scg_shear_ratio_simd)
+    I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio_simd)
 
 #: cells kept in the mechanics window below the deepest cell that flowed plastically (docs/theory/viscoplastic.md,
 #: "Cost"); a far cell that flows at the solution grows the window
@@ -81,32 +81,15 @@ def _inertial_parallel(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_
                         np.uint64((b + 1) * nc // nblocks))
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def _correction(a, cc, x, ys, ub, kf, n, Ymax):
-    """One Newton correction of the return equation a - cc x - k(x) = 0 at x, k = min(Ymax, y_start (1 + u)^n) k_fac,
-    u = x ub (the binomial series where |u| <= BINOMIAL_U, the inlined exp and log beyond: no branch, no call);
-    returns (x + dx, dx, dk/dx at x, k'' at x, cc + dk/dx)."""
-    u = x * ub
-    hb = 1.0 + u
-    p = binomial_power(u, n) if abs(u) <= BINOMIAL_U else exp_inline(n * log_inline(hb))
-    y = ys * p
-    below = y < Ymax
-    dk = kf * n * ub * y / hb if below else 0.0
-    den = cc + dk
-    dx = (a - cc * x - (y if below else Ymax) * kf) / den
-    kpp = n * (n - 1.0) * ub * ub * kf * y / (hb * hb) if below else 0.0
-    return x + dx, dx, dk, kpp, den
-
-
 @njit(cache=True, error_model="numpy")
 def _returns(nq, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax):
     """The return maps of the nq plastic cells gathered by :func:`_cells` (|s_tr| qa, G qg, k_fac qkf, y_start qy,
     eps qeps, the first iterate qx: the cell's last increment in this step, < 0: none), in one loop without
     branches that vectorises: from the first iterate (else the closed-form linear return with the hardening slope at
-    the start of the step), two Newton corrections (:func:`_correction`) and the estimate of the next one
-    (:func:`~shockfriction.friction.subgrid.viscoplastic.return_map`'s, the tangent carried to the new x); qx, qd the
-    increment and d|s'|/d|s_tr|, qok 1 where the estimate is within the tolerance, else 0 (the caller redoes the
-    cell by ``return_map``: the same root to its tolerance)."""
+    the start of the step), two Newton corrections
+    (:func:`~shockfriction.friction.subgrid.viscoplastic.return_correction`, ``return_map``'s own) and the estimate
+    of the next one, the tangent carried to the new x; qx, qd the increment and d|s'|/d|s_tr|, qok 1 where the
+    estimate is within the tolerance, else 0 (the caller redoes the cell by ``return_map``)."""
     for q in range(nq):
         a = qa[q]
         kf = qkf[q]
@@ -115,8 +98,8 @@ def _returns(nq, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax):
         ub = beta / (SQRT3 * (1.0 + beta * qeps[q]))  # Y = y_start (1 + u)^n, u = x ub
         dk0 = kf * n * ub * ys if ys < Ymax else 0.0
         x1 = qx[q] if qx[q] >= 0.0 else (a - ys * kf) / (cc + dk0)
-        x2, _, _, _, _ = _correction(a, cc, x1, ys, ub, kf, n, Ymax)
-        x3, dx, dk, kpp, den = _correction(a, cc, x2, ys, ub, kf, n, Ymax)
+        x2, _, _, _, _ = return_correction(a, cc, x1, ys, ub, kf, n, Ymax)
+        x3, dx, dk, kpp, den = return_correction(a, cc, x2, ys, ub, kf, n, Ymax)
         ok = 0.5 * abs(kpp) / den * (dx * dx) <= 1e-15 * x3 or abs(dx) <= 1e-15 * x3
         dk2 = dk + kpp * dx
         qx[q] = x3
@@ -125,7 +108,7 @@ def _returns(nq, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax):
 
 
 @njit(cache=True, error_model="numpy")
-def _cells(vt, nw, idz, dt, G, ge, eps, yh, eta, kf, Y0, beta, n, Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa,
+def _cells(vt, nw, idz, dt, G, ge, eps, yh, eta, kf, beta, n, Ymax, eta_vp, S, Kc, gdm, snew, dgp, qi, qa,
            qg, qkf, qy, qeps, qx, qd, qok):
     """Stresses S[c + 1], stiffnesses Kc[c], strain rates gdm, solid stresses snew and plastic increments dgp of the
     cells c < nw at the trial velocities vt (backward Euler, the plastic increment that of
@@ -181,7 +164,7 @@ def _cells(vt, nw, idz, dt, G, ge, eps, yh, eta, kf, Y0, beta, n, Ymax, eta_vp, 
         d = qd[q]
         if qok[q] == 0.0:
             x0 = abs(dgp[c]) if dgp[c] != 0.0 else -1.0
-            x, d = return_map(qa[q], G[c], eta_dt, eps[c], yh[c], kf[c], Y0, beta, n, Ymax, x0)
+            x, d = return_map(qa[q], G[c], eta_dt, eps[c], yh[c], kf[c], beta, n, Ymax, x0)
         s_tr = snew[c]
         g = G[c]
         sg = 1.0 if s_tr >= 0.0 else -1.0
@@ -405,7 +388,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                 rlast = -1.0  # the last full Newton step's relative correction (-1: none)
                 for it in range(max_newton):
                     if not fresh:
-                        npl, deep = _cells(vn, nw, idz, dt, G, gel, epsl, yh, eta, kf, Y0, beta_h, n_h, Ymax, eta_vp,
+                        npl, deep = _cells(vn, nw, idz, dt, G, gel, epsl, yh, eta, kf, beta_h, n_h, Ymax, eta_vp,
                                            S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     # surface row
                     if stick:
@@ -458,7 +441,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                     for i in range(nw + 1):
                         vt[i] = vn[i] + rhs[i]
                     plv = npl
-                    npl, deep = _cells(vt, nw, idz, dt, G, gel, epsl, yh, eta, kf, Y0, beta_h, n_h, Ymax, eta_vp, S,
+                    npl, deep = _cells(vt, nw, idz, dt, G, gel, epsl, yh, eta, kf, beta_h, n_h, Ymax, eta_vp, S,
                                        Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     for ls in range(12):
                         g = _slope(vt, vo, rhs, S, mass, dt, stick, kj, vf, ts, nw, far_a, far_z)
@@ -488,7 +471,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                         ls_a = a_new
                         for i in range(nw + 1):
                             vt[i] = vn[i] + ls_a * rhs[i]
-                        npl, deep = _cells(vt, nw, idz, dt, G, gel, epsl, yh, eta, kf, Y0, beta_h, n_h, Ymax, eta_vp,
+                        npl, deep = _cells(vt, nw, idz, dt, G, gel, epsl, yh, eta, kf, beta_h, n_h, Ymax, eta_vp,
                                            S, Kc, gdm, snew, dgp, qi, qa, qg, qkf, qy, qeps, qx, qd, qok)
                     fresh = True
                     dmx = 0.0
@@ -536,8 +519,8 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                         vn[i] = pf[i] + qf[i] * vn[i - 1]
                     for c in range(nw, M):
                         gd, sn, dg, Sm, K = _cell_state(vo[c] - vo[c + 1], vn[c] - vn[c + 1], dz[c], dt, G[c],
-                                                        gel[c], epsl[c], yh[c], eta[c], kf[c], sold[c], Y0, beta_h,
-                                                        n_h, Ymax, eta_vp, 1.0)
+                                                        gel[c], epsl[c], yh[c], eta[c], kf[c], sold[c], beta_h, n_h,
+                                                        Ymax, eta_vp, 1.0)
                         gdm[c] = gd
                         S[c + 1] = Sm
                         snew[c] = sn

@@ -58,7 +58,7 @@ import math
 import numpy as np
 from numba import njit
 
-from shockfriction.materials.strength import scg_melt_temperature
+from shockfriction.materials.strength import exp_inline, log_inline, scg_melt_temperature
 
 SQRT3 = math.sqrt(3.0)
 #: smallest melt fraction of a film cell in its viscosity eta_L/phi (a cell of the SCG solid whose G vanishes
@@ -152,8 +152,28 @@ def binomial_power(u, n):
     return 1.0 + n * u * p
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def return_correction(a, cc, x, ys, ub, kf, n, Ymax):
+    """One Newton correction of the return equation a - cc x - k(x) = 0 at x (a = |s_tr|, cc = G + eta_vp/dt),
+    k = min(Ymax, y_start (1 + u)^n) k_fac, u = x ub, ub = beta/(sqrt3 (1 + beta eps)): the hardening by
+    :func:`binomial_power` where |u| <= BINOMIAL_U, by the inlined exp and log beyond (no branch, no call: a loop of
+    these vectorises).  Returns (x + dx, dx, dk/dx at x, k'' at x, cc + dk/dx); k'' = n (n - 1) ub^2 Y k_fac/(1 + u)^2
+    sizes the next correction, |k''|/(2 (cc + dk)) dx^2 (docs/theory/viscoplastic.md, "The return map's last
+    correction")."""
+    u = x * ub
+    hb = 1.0 + u
+    p = binomial_power(u, n) if abs(u) <= BINOMIAL_U else exp_inline(n * log_inline(hb))
+    y = ys * p
+    below = y < Ymax
+    dk = kf * n * ub * y / hb if below else 0.0
+    den = cc + dk
+    dx = (a - cc * x - (y if below else Ymax) * kf) / den
+    kpp = n * (n - 1.0) * ub * ub * kf * y / (hb * hb) if below else 0.0
+    return x + dx, dx, dk, kpp, den
+
+
 @njit(cache=True, error_model="numpy")
-def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0):
+def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, beta, n, Ymax, x0=-1.0):
     """Plastic increment x = d gamma_p >= 0 of |s_tr| - (G + eta_vp/dt) x - Y(eps + x/sqrt3) k_fac = 0,
     k_fac = (G/G0)/sqrt(3); returns (x, d|s'|/d|s_tr|).  The left side is convex and decreasing in x,
     so Newton from x = 0 climbs monotonically to the root (no overshoot).  ``y_start`` = min(Ymax, Y0 (1 + beta
@@ -162,12 +182,11 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0
 
     Cost (docs/theory/viscoplastic.md, "Cost"): the first Newton iterate is the closed-form linear return with the
     hardening frozen at y_start (no pow); a saturated cell (y_start = Ymax) stops there, exactly; otherwise each
-    correction evaluates Y = y_start (1 + u)^n, u = beta (x/sqrt3)/(1 + beta eps), by :func:`binomial_power` where
-    |u| <= BINOMIAL_U and by one pow beyond, the hardening slope coming from Y itself, dY/d eps = n beta Y/(1 + beta
-    eps).
+    correction is :func:`return_correction` (Y = y_start (1 + u)^n, u = beta (x/sqrt3)/(1 + beta eps), the hardening
+    slope from Y itself).
     The iteration stops where the correction is within 1e-15 of x, or where the next one, estimated from the
     curvature of the hardening (Newton's error e' = |f''|/(2 |f'|) e^2), is (docs/theory/viscoplastic.md, "The return
-    map's last correction").
+    map's last correction"); the tangent is then carried to the returned x by k'' dx.
     ``x0`` >= 0: the first iterate instead (a guess from the same cell's last return within the step; Newton from
     either side of the root of a convex decreasing function lands left of it in one step, then climbs)."""
     if G <= 0.0:
@@ -178,32 +197,17 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0
     c = G + eta_dt
     if y_start >= Ymax:  # saturated: Y stays at Ymax, the linear return is exact
         return (s_abs - k) / c, eta_dt / c
-    nbk = n * beta * k_fac / SQRT3
-    qn = n * (n - 1.0) * beta * beta / 3.0
-    hb0 = 1.0 + beta * eps
-    dk = y_start * nbk / hb0
-    x = (s_abs - k) / (c + dk) if x0 < 0.0 else x0
+    ub = beta / (SQRT3 * (1.0 + beta * eps))  # Y = y_start (1 + u)^n, u = x ub
+    x = (s_abs - k) / (c + k_fac * n * ub * y_start) if x0 < 0.0 else x0
+    dk = 0.0
     last = math.inf
     for _ in range(100):
-        hb = 1.0 + beta * (eps + x / SQRT3)
-        u = beta * (x / SQRT3) / hb0  # hb = hb0 (1 + u): Y = y_start (1 + u)^n
-        y = y_start * binomial_power(u, n) if abs(u) <= BINOMIAL_U else Y0 * hb ** n
-        if y >= Ymax:
-            k = Ymax * k_fac
-            dk = 0.0
-        else:
-            k = y * k_fac
-            dk = y * nbk / hb
-        dx = (s_abs - c * x - k) / (c + dk)
-        x += dx
+        x, dx, dk, kpp, den = return_correction(s_abs, c, x, y_start, ub, k_fac, n, Ymax)
         if abs(dx) <= 1e-15 * x or abs(dx) >= last:  # converged, or stalled at the round-off of the residual
             break
-        # Newton's next correction, |k''|/(2 (c + dk)) dx^2 with k'' = k_fac Y''/3, Y'' = n (n - 1) beta^2 Y/hb^2
-        # (0 where Y is saturated: the step just taken was exact): converged where that is within the tolerance
-        if dk == 0.0:
+        if dk == 0.0:  # Y saturated: the step just taken was exact
             break
-        kpp = qn * y * k_fac / (hb * hb)  # k'' = n (n - 1) beta^2 Y k_fac/(3 hb^2)
-        if 0.5 * abs(kpp) / (c + dk) * (dx * dx) <= 1e-15 * x:
+        if 0.5 * abs(kpp) / den * (dx * dx) <= 1e-15 * x:  # the next correction is within the tolerance
             dk += kpp * dx  # the tangent at the new x (to O(dx^2))
             break
         last = abs(dx)
@@ -211,7 +215,7 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, Y0, beta, n, Ymax, x0=-1.0
 
 
 @njit(cache=True, error_model="numpy")
-def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta, n, Ymax, eta_vp, th, x0=-1.0):
+def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, beta, n, Ymax, eta_vp, th, x0=-1.0):
     """Strain rate, new solid stress, plastic increment, step stress and stiffness dS/dv' of one cell
     (dv, dvn = v_c - v_{c+1} at the old and new velocities; the other arguments the cell's values; x0 a guess of
     the plastic increment |d gamma_p| for :func:`return_map`, < 0: none).
@@ -225,7 +229,7 @@ def _cell_state(dv, dvn, dzc, dt, g, gec, epsc, yhc, etac, kfc, soldc, Y0, beta,
     s_tr = g * (gec + dt * gd)
     if abs(s_tr) <= yhc * kfc:  # elastic: return_map's own first test, here where it is inlined into the pass
         return gd, s_tr, 0.0, (1.0 - th) * soldc + th * s_tr + etac * gd, (th * g * dt + etac) * th / dzc
-    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, epsc, yhc, kfc, Y0, beta, n, Ymax, x0)
+    x, dsds = return_map(abs(s_tr), g, eta_vp / dt, epsc, yhc, kfc, beta, n, Ymax, x0)
     sg = 1.0 if s_tr >= 0.0 else -1.0
     snew = s_tr - sg * g * x
     S = (1.0 - th) * soldc + th * snew + etac * gd
