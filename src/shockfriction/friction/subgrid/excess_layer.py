@@ -238,6 +238,15 @@ def _cells_hardening(j, M, eps, yhc, yhe, yrc, yr, eps_ref, epsl, yh, hfac, Y0, 
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def cell_shear_ratio(Tm, phm, c, F, g_p, h_p, xi, TF):
+    """Cell c's melt fraction, the mean of its nodes' phm, and its G/G0 at the mean of its nodes' temperatures Tm, 0
+    where it holds melt (both kernels' material state; inlined into loops that vectorise)."""
+    ph = 0.5 * (phm[c] + phm[c + 1])
+    r = scg_shear_ratio_simd(F, 0.5 * (Tm[c] + Tm[c + 1]), g_p, h_p, xi, TF)
+    return ph, (r if ph <= 0.0 else 0.0)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def surface_cap(cap0, tresca, f, F, T_s, g_p, h_p, xi, TF):
     """The cap of the layer's stress: min(cap0 = min(mu0 sigma_n, tau_stick), the Tresca branch f Ymax/sqrt3
     (G/G0)(p, T(0))) at the surface temperature T_s; cap0 where f < 0 (no Tresca branch)."""
@@ -757,10 +766,7 @@ def _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, 
                 # (loops without branches, which vectorise along the column: the exponential and the power inlined)
                 melt = False
                 for c in range(M):
-                    ph = 0.5 * (phm[c] + phm[c + 1])
-                    phc[c] = ph
-                    r = scg_shear_ratio_simd(F, 0.5 * (Tm[c] + Tm[c + 1]), g_p, h_p, xi, TFj)
-                    r = r if ph <= 0.0 else 0.0
+                    phc[c], r = cell_shear_ratio(Tm, phm, c, F, g_p, h_p, xi, TFj)
                     melt |= r <= 0.0
                     G[c] = G0 * r
                     kf = r * INV_SQRT3

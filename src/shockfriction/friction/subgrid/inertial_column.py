@@ -26,8 +26,8 @@ import numpy as np
 from numba import get_num_threads, njit, prange
 
 from shockfriction.friction.subgrid.excess_layer import (
-    _column_heat, _heat_factor, commit_heat, commit_surface, forget_history, gather_predict, next_iterate,
-    picard_converged, surface_cap)
+    _column_heat, _heat_factor, cell_shear_ratio, commit_heat, commit_surface, forget_history, gather_predict,
+    next_iterate, picard_converged, surface_cap)
 from shockfriction.friction.subgrid.viscoplastic import (
     BAD_INPUT, E_NUMERICAL, E_PLASTIC, E_RADIATED,
     E_SOFTENING, E_VISCOUS, NO_CONVERGENCE, OK, P_BETA_Q, P_BETA_T, P_C, P_E_R, P_ETA_F, P_ETA_VP, P_F,
@@ -35,7 +35,7 @@ from shockfriction.friction.subgrid.viscoplastic import (
     PHI_MIN, SQRT3, _cell_state, liquid_viscosity, other_body_response, return_correction, return_map,
     temperature_of)
 from shockfriction.materials.strength import (
-    I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio_simd)
+    I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX)
 
 #: cells kept in the mechanics window below the deepest cell that flowed plastically (docs/theory/viscoplastic.md,
 #: "Cost"); a far cell that flows at the solution grows the window
@@ -356,10 +356,7 @@ def _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap
                 Tm[i], _, phm[i] = temperature_of(Em[i], rho_c, rho_L, T0, TFj)
             melt = False
             for c in range(M):  # (without branches, which vectorise along the column: the exponential inlined)
-                ph = 0.5 * (phm[c] + phm[c + 1])
-                phc[c] = ph
-                r = scg_shear_ratio_simd(F, 0.5 * (Tm[c] + Tm[c + 1]), g_p, h_p, xi, TFj)
-                r = r if ph <= 0.0 else 0.0
+                phc[c], r = cell_shear_ratio(Tm, phm, c, F, g_p, h_p, xi, TFj)
                 melt |= r <= 0.0
                 G[c] = G0 * r
                 kf[c] = r * INV_SQRT3
