@@ -42,6 +42,9 @@ PARALLEL_MIN_COLUMNS = 8
 RHO_MAX = 0.5
 #: ... and up to which multiple of the tolerance the increment may then be (:func:`picard_converged`)
 BOUND_GAIN = 100.0
+#: the z = 0 secant is stalled, and its bracket stale, where a sweep's residual keeps its sign and more than this
+#: fraction of the last one (:func:`next_iterate`)
+STALL = 0.5
 #: smallest overstress viscosity (Pa s) of the layer's rates: eta_vp = 0, the rate-independent limit, is taken at
 #: this value (a layer slip of 1 m/s over 1 um then needs 1 Pa of overstress)
 EXCESS_MIN_ETA = 1e-6
@@ -373,6 +376,11 @@ def next_iterate(pic, Em, en, rb, blo, bhi, xprev, rprev, omega, tol):
     in J/m^3.  Returns the updated (blo, bhi, xprev, rprev, omega)."""
     x = Em[0]
     r = en[0] - x
+    if pic > 0 and r * rprev > 0.0 and abs(r) > STALL * abs(rprev) and abs(r) > tol:
+        # stalled: the map moved under the bracket (the bulk's nodes still move, e.g. one just below its solidus);
+        # keep only what this sweep says
+        blo = -np.inf
+        bhi = np.inf
     if r > 0.0:
         blo = max(blo, x)
     else:
