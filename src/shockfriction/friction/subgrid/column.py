@@ -41,6 +41,21 @@ from numba import njit
 
 # --------------------------------------------------------------------------- Thomas (Annex A)
 @njit(cache=True)
+def column_sums(w, X):
+    """sum_i w_i X[i, j] for every column j of X (nodes x columns), summed in node order on one thread: the books'
+    per-area sums (numpy's ``w @ X`` goes through a threaded BLAS gemv from ~0.5 M entries on, whose worker then
+    spins between the steps on a core the run may need)."""
+    n, nc = X.shape
+    out = np.zeros(nc)
+    for j in range(nc):
+        acc = 0.0
+        for i in range(n):
+            acc += w[i] * X[i, j]
+        out[j] = acc
+    return out
+
+
+@njit(cache=True)
 def thomas_solve(a, b, c, d):
     """Solve a_i x_{i-1} + b_i x_i + c_i x_{i+1} = d_i (a_0 = c_{n-1} = 0) by the Thomas algorithm (eq. A.3-A.12)."""
     n = d.shape[0]

@@ -76,7 +76,7 @@ import math
 import numpy as np
 
 from shockfriction.errors import SimulationError
-from shockfriction.friction.subgrid.column import ThermalColumns
+from shockfriction.friction.subgrid.column import ThermalColumns, column_sums
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
                                                            book_step, first_nonfinite, first_nonzero,
                                                            solve_thermoelastic,
@@ -259,7 +259,7 @@ class SubgridInterface:
         """Plastic heat of the last step not yet deposited in the column (J/m^2)."""
         if self.model == "thermoelastoplastic":
             return self._pending_sum.copy()  # summed node by node as finish_column writes it
-        return self.columns.weights @ self._pending_plastic_heat
+        return column_sums(self.columns.weights, self._pending_plastic_heat)
 
     # ------------------------------------------------------------------ the step
     def step(self, sigma_n, v_free, slip_prev, m_slave, m_guide, area, dt: float, *,

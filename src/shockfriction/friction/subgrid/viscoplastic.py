@@ -58,6 +58,7 @@ import math
 import numpy as np
 from numba import njit
 
+from shockfriction.friction.subgrid.column import column_sums
 from shockfriction.materials.strength import exp_inline, log_inline, scg_melt_temperature
 
 SQRT3 = math.sqrt(3.0)
@@ -826,30 +827,30 @@ class ViscoplasticColumns:
 
     def heat_stored(self) -> np.ndarray:
         """Enthalpy per unit area (J/m^2): sensible + latent."""
-        return self.weights @ self.e
+        return column_sums(self.weights, self.e)
 
     def other_heat_stored(self) -> np.ndarray:
         """Heat in the other body's thermal column (J/m^2; two-sided heat, zeros otherwise): equals
         ``energies()["heat_conducted_other"]`` to round-off."""
         if self.z_other.size == 0:
             return np.zeros(self.n_columns)
-        return self._c2 @ (self.T_other - self.T0)
+        return column_sums(self._c2, self.T_other - self.T0)
 
     def latent_stored(self) -> np.ndarray:
         # (the books call this every step: without a node above its solidus it is zero, without the full pass)
         if not np.any(self.e.max(axis=0) > self._solidus_enthalpy()):
             return np.zeros(self.n_columns)
-        return self.rho_L * (self.weights @ self.melt_fraction())
+        return self.rho_L * column_sums(self.weights, self.melt_fraction())
 
     def kinetic(self) -> np.ndarray:
         if not self.inertia:  # a quasi-static column (the excess layer) carries none
             return np.zeros(self.n_columns)
-        return 0.5 * self.par[P_RHO] * (self.weights @ self.v**2)
+        return 0.5 * self.par[P_RHO] * column_sums(self.weights, self.v**2)
 
     def elastic(self) -> np.ndarray:
         if self.far_end == "excess":  # the excess layer stores no elastic strain (its cells' is the hydro's)
             return np.zeros(self.n_columns)
-        return 0.5 * (self.dz @ (self.Gs * self.ge**2))
+        return 0.5 * column_sums(self.dz, self.Gs * self.ge**2)
 
     def mechanical_energy(self) -> np.ndarray:
         return self.kinetic() + self.elastic()
