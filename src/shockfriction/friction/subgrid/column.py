@@ -39,7 +39,7 @@ import numpy as np
 from numba import njit
 
 
-# --------------------------------------------------------------------------- Thomas (Annex A)
+# --------------------------------------------------------------------------- the books' sums
 @njit(cache=True)
 def column_sums(w, X):
     """sum_i w_i X[i, j] for every column j of X (nodes x columns), summed in node order on one thread: the books'
@@ -55,6 +55,7 @@ def column_sums(w, X):
     return out
 
 
+# --------------------------------------------------------------------------- Thomas (Annex A)
 @njit(cache=True)
 def thomas_solve(a, b, c, d):
     """Solve a_i x_{i-1} + b_i x_i + c_i x_{i+1} = d_i (a_0 = c_{n-1} = 0) by the Thomas algorithm (eq. A.3-A.12)."""
