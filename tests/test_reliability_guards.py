@@ -139,3 +139,18 @@ def test_a_normal_run_keeps_its_time_steps_far_from_the_collapse_limit():
         sim.step()
         dts.append(sim.state.dt)
     assert np.min(dts[5:]) / sim.guards.dt_ref > 0.3
+
+
+def test_stepping_past_the_end_time_is_a_clear_error_not_a_division_by_zero():
+    """Simulation.step() at t = time.end (the last step left dt = 0): a RuntimeError that says so; before, a deck
+    with slide lines died in the contact step's division by dt (a ZeroDivisionError from a numba kernel)."""
+    from cone_shot import cone_deck
+
+    from shockfriction.hydro.api import prepare
+
+    sim = prepare(cone_deck(law="coulomb", cell_um=400, end_us=0.1))
+    while sim.state.t < sim.t_end * (1.0 - 1e-12):
+        sim.step()
+    assert sim.state.t == pytest.approx(1e-7, rel=1e-12) and sim.state.dt == 0.0
+    with pytest.raises(RuntimeError, match="at its end time"):
+        sim.step()

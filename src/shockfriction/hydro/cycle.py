@@ -310,6 +310,9 @@ class Simulation:
         if self._finished:
             raise RuntimeError("this simulation has finished (its velocities are at the final time)")
         dt = self.state.dt
+        if not dt > 0.0:  # t = t_end: the last step set dt to what remained, 0 (a slide line would divide by it)
+            raise RuntimeError(f"this simulation is at its end time t = {self.state.t:.6g} s (deck time.end): "
+                               "nothing left to step")
         if self.interfaces or self._int_active or (
                 (self._getters or self.observers) and self.state.cycle % self.probe_every == 0):
             self._velocity_stage(final=False)
