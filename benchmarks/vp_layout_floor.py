@@ -125,12 +125,11 @@ class Floor:
         dz = 20e-6 / cells
         self.v = np.zeros((nn, ncol))
         self.v[0] = np.linspace(150.0, 250.0, ncol)
-        planes = [np.zeros((nn + 1 if k == 2 else nn, ncol)) for k in range(10)]
-        self.vo, self.T, self.S, self.lo, self.di, self.up, self.rhs, self.src, self.e, _ = planes
-        self.T += 300.0
-        cellp = [np.zeros((cells, ncol)) for _ in range(6)]
-        self.ge, self.Kc, self.G, self.kf, self.snew, self.dgp = cellp
-        self.ge += 1e-3
+        self.vo, self.e, self.lo, self.di, self.up, self.rhs, self.src = (np.zeros((nn, ncol)) for _ in range(7))
+        self.T = np.full((nn, ncol), 300.0)
+        self.S = np.zeros((nn + 1, ncol))  # the stresses on the nodes' faces, S_0 at the surface
+        self.Kc, self.G, self.kf, self.snew, self.dgp = (np.zeros((cells, ncol)) for _ in range(5))
+        self.ge = np.full((cells, ncol), 1e-3)
         self.args = (np.full(nn, 2700.0 * dz / 1e-9), np.full(cells, 1.0 / dz), 27e9, 1e-4, 300.0, 3e8, 5e10, 1e-9,
                      2.4e6, 7e7, np.full(nn, -0.1), np.full(nn, 0.8), np.full(nn, -0.1))
 
