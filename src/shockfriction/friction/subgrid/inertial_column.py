@@ -32,8 +32,8 @@ from shockfriction.friction.subgrid.viscoplastic import (
     BAD_INPUT, E_NUMERICAL, E_PLASTIC, E_RADIATED,
     E_SOFTENING, E_VISCOUS, NO_CONVERGENCE, OK, P_BETA_Q, P_BETA_T, P_C, P_E_R, P_ETA_F, P_ETA_VP, P_F,
     P_HEAT_TOL, P_INERTIA, P_KAPPA, P_L, P_MAX_NEWTON, P_MECH_TOL, P_PICARD_TOL, P_RHO, P_T0, P_T_FAR, P_V_R, P_Z,
-    PHI_MIN, SQRT3, _cell_state, liquid_viscosity, other_body_response, return_correction, return_map,
-    temperature_of)
+    PHI_MIN, SQRT3, _cell_state, linear_return, liquid_viscosity, other_body_response, return_correction,
+    return_map, temperature_of)
 from shockfriction.materials.strength import (
     I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX)
 
@@ -96,8 +96,7 @@ def _returns(nq, qa, qg, qkf, qy, qeps, qx, qd, qok, eta_dt, beta, n, Ymax):
         ys = qy[q]
         cc = qg[q] + eta_dt
         ub = beta / (SQRT3 * (1.0 + beta * qeps[q]))  # Y = y_start (1 + u)^n, u = x ub
-        dk0 = kf * n * ub * ys if ys < Ymax else 0.0
-        x1 = qx[q] if qx[q] >= 0.0 else (a - ys * kf) / (cc + dk0)
+        x1 = qx[q] if qx[q] >= 0.0 else linear_return(a, cc, ys, kf, ub, n, Ymax)
         x2, _, _, _, _ = return_correction(a, cc, x1, ys, ub, kf, n, Ymax)
         x3, dx, dk, kpp, den = return_correction(a, cc, x2, ys, ub, kf, n, Ymax)
         ok = 0.5 * abs(kpp) / den * (dx * dx) <= 1e-15 * x3 or abs(dx) <= 1e-15 * x3

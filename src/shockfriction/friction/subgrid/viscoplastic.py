@@ -154,6 +154,14 @@ def binomial_power(u, n):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def linear_return(a, cc, ys, kf, ub, n, Ymax):
+    """The return's first iterate: the root of a - cc x - k(x) = 0 with k linearised at x = 0, k(0) = y_start k_fac
+    and slope k_fac n ub y_start (0 where y_start >= Ymax: saturated, the return is then exact);
+    u = x ub as in :func:`return_correction`."""
+    return (a - ys * kf) / (cc + (kf * n * ub * ys if ys < Ymax else 0.0))
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def return_correction(a, cc, x, ys, ub, kf, n, Ymax):
     """One Newton correction of the return equation a - cc x - k(x) = 0 at x (a = |s_tr|, cc = G + eta_vp/dt),
     k = min(Ymax, y_start (1 + u)^n) k_fac, u = x ub, ub = beta/(sqrt3 (1 + beta eps)): the hardening by
@@ -199,7 +207,7 @@ def return_map(s_abs, G, eta_dt, eps, y_start, k_fac, beta, n, Ymax, x0=-1.0):
     if y_start >= Ymax:  # saturated: Y stays at Ymax, the linear return is exact
         return (s_abs - k) / c, eta_dt / c
     ub = beta / (SQRT3 * (1.0 + beta * eps))  # Y = y_start (1 + u)^n, u = x ub
-    x = (s_abs - k) / (c + k_fac * n * ub * y_start) if x0 < 0.0 else x0
+    x = linear_return(s_abs, c, y_start, k_fac, ub, n, Ymax) if x0 < 0.0 else x0
     dk = 0.0
     last = math.inf
     for _ in range(100):
