@@ -8,6 +8,7 @@ import pytest
 from shockfriction.deck.subgrid import SubgridDeck
 from shockfriction.friction.subgrid.interface import SubgridInterface
 from shockfriction.friction.subgrid.viscoplastic import P_PICARD_TOL, PICARD_TOL
+from shockfriction.materials.library import get_material
 
 
 def _ball(picard_tol, steps=300):
@@ -161,3 +162,35 @@ def test_surface_secant_drops_a_bracket_the_map_moved_out_of():
     assert STALL == 0.5
     assert _surface_sweeps(shift_at=10**6) == (3, 10.0)
     assert _surface_sweeps(shift_at=2) == (5, 3.0)
+
+
+def test_a_tolerance_below_the_maps_resolution_gives_the_converged_answer():
+    """A Picard tolerance below what the sweep map resolves (the map's output moves by ~2e-12 K sweep to sweep at Ball
+    f = 0.7 step 6, 246 K of sensible heat at the surface) is met at the map's resolution, RESOLUTION = 1e-12 of the
+    column's largest enthalpy (docs/theory/viscoplastic.md, "A tolerance below what the sweep map resolves"):
+    1e-12 / 1e-13 / 1e-14 K give the 1e-9 K answer (measured 3.0e-9 K in Theta(0), 3.7e-11 in tau over 8 steps) in
+    at most 7 sweeps, and no step is split.  Before, such a step ran its 100 sweeps on the noise, was split into
+    sub-steps, and ended 0.41 / 6.4 / 10.0 K away (tau 1.3e-3 / 4.1e-3 / 6.3e-3)."""
+    from shockfriction.friction.subgrid.excess_layer import RESOLUTION
+
+    assert RESOLUTION == 1e-12
+
+    def run(tol):
+        sg = SubgridInterface(4, get_material("Al5083-H111"), get_material("AISI321"), thickness=20e-6, n_cells=500,
+                              model="viscoplastic", mu0=0.3, f=0.7, viscoplastic={"picard_tol": tol})
+        v = np.linspace(150.0, 250.0, 4)
+        theta, tau, sweeps = [], [], 0
+        for _ in range(8):
+            t, _ = sg.step(10e9, v, v, np.inf, np.inf, 1.0, 1e-9)
+            assert np.all(sg.vp.substeps == 1) and np.all(sg.vp.iterations > 0)
+            theta.append(sg.theta_interface.copy())
+            tau.append(t.copy())
+            sweeps = max(sweeps, int(sg.vp.iterations.max()))
+        return np.array(theta), np.array(tau), sweeps
+
+    theta0, tau0, _ = run(1e-9)
+    for tol in (1e-12, 1e-13, 1e-14):
+        theta, tau, sweeps = run(tol)
+        assert np.max(np.abs(theta - theta0)) <= 1e-8
+        assert np.max(np.abs(tau - tau0) / np.abs(tau0)) <= 1e-10
+        assert sweeps <= 8

@@ -45,6 +45,10 @@ BOUND_GAIN = 100.0
 #: the z = 0 secant is stalled, and its bracket stale, where a sweep's residual keeps its sign and more than this
 #: fraction of the last one (:func:`next_iterate`)
 STALL = 0.5
+#: the sweep map's resolution, relative to the column's largest enthalpy: an increment below it is accepted whatever
+#: the tolerance (:func:`picard_converged`; docs/theory/viscoplastic.md, "A tolerance below what the sweep map
+#: resolves")
+RESOLUTION = 1e-12
 #: smallest overstress viscosity (Pa s) of the layer's rates: eta_vp = 0, the rate-independent limit, is taken at
 #: this value (a layer slip of 1 m/s over 1 um then needs 1 Pa of overstress)
 EXCESS_MIN_ETA = 1e-6
@@ -332,7 +336,10 @@ def commit_heat(e, T, de, de2, j, el, en, d1, Tout):
 @njit(cache=True, error_model="numpy")
 def picard_converged(pic, en, Em, rb, omega, xprev, rprev, tol):
     """Has the step's Picard iteration converged?  d = max_i |en_i - Em_i|, the sweep's increment (the heat solve's
-    enthalpies en against the enthalpies Em that set the sweep's material state).  Converged where d <= tol, or,
+    enthalpies en against the enthalpies Em that set the sweep's material state).  Converged where d <= tol or
+    d <= RESOLUTION max_i |en_i| (below that the map's own noise, round-off and its mechanics solved to 1e-13, moves
+    the increment, and a tighter tolerance would only run the sweeps out: docs/theory/viscoplastic.md, "A tolerance
+    below what the sweep map resolves"), or,
     from the second sweep on, where the error bound of en against the step's coupled solution (the fixed point
     x* = Phi(x*) of the sweep map en = Phi(Em)) is: |en - x*| <= rho/(1 - rho) d, with rho the map's contraction
     estimated along its last step, max|en - en'| / max|Em - Em'| (primes: the last sweep), if rho < RHO_MAX, the
@@ -343,22 +350,27 @@ def picard_converged(pic, en, Em, rb, omega, xprev, rprev, tol):
     test").  (The maxima as the bits of non-negative floats: integer maxima vectorise; one pass.)"""
     if pic == 0:
         mb = np.int64(0)
+        me = np.int64(0)
         for i in range(en.size):
             mb = max(mb, np.int64(f64_bits(abs(en[i] - Em[i]))))
-        return f64_from_bits(mb) <= tol
+            me = max(me, np.int64(f64_bits(abs(en[i]))))
+        d = f64_from_bits(mb)
+        return d <= tol or d <= RESOLUTION * f64_from_bits(me)
     keep = 1.0 - omega
     mb = np.int64(f64_bits(abs(en[0] - Em[0])))
     mn = np.int64(f64_bits(abs(en[0] - xprev - rprev)))
     mm = np.int64(f64_bits(abs(Em[0] - xprev)))
     mp = np.int64(f64_bits(abs(rprev)))
+    me = np.int64(f64_bits(abs(en[0])))
     for i in range(1, en.size):
         r = en[i] - Em[i]
         mb = max(mb, np.int64(f64_bits(abs(r))))
         mn = max(mn, np.int64(f64_bits(abs(r - keep * rb[i]))))
         mm = max(mm, np.int64(f64_bits(abs(omega * rb[i]))))
         mp = max(mp, np.int64(f64_bits(abs(rb[i]))))
+        me = max(me, np.int64(f64_bits(abs(en[i]))))
     d = f64_from_bits(mb)
-    if d <= tol:
+    if d <= tol or d <= RESOLUTION * f64_from_bits(me):
         return True
     dm = f64_from_bits(mm)
     if not (d <= BOUND_GAIN * tol and d < f64_from_bits(mp) and dm > 0.0):
