@@ -1,14 +1,17 @@
 """The floor of issue 26's design at f = 0.7: a cost prototype, not the model.
 
     PYTHONPATH=src python benchmarks/vp_layout_floor.py [--columns 200] [--cells 500] [--repeats 3]
+                                                       [--sweeps 2] [--newton 2]
 
 What it times: a viscoplastic column-step in the layout the issue's targets ask for (docs/theory/viscoplastic.md,
 "What issue 26's targets ask of a pass over the cells"): the columns innermost, so that every loop runs along a
 row of columns and vectorises (the chapter 8 kernel's layout), and the closed-form linear overstress return with the
 hardening frozen at the start of the step.  Per step, the counts the kernel takes late in the Ball run at f = 0.7
-(every cell plastic): two sweeps, each with the cells' G(T) (an inlined exponential per cell), Newton iterations (two,
-then one) of a cell pass (trial stress, return, consistent tangent) and a Thomas solve across the columns (reciprocal
-pivots), the plastic work as heat and a pre-factored heat solve.  What it leaves out, so that a real kernel costs more:
+(every cell plastic): two sweeps (``--sweeps``), each with the cells' G(T) (an inlined exponential per cell), Newton
+iterations (two, ``--newton``, then one) of a cell pass (trial stress, return, consistent tangent) and a Thomas solve across the columns (reciprocal
+pivots), the plastic work as heat and a pre-factored heat solve.  ``--sweeps 1 --newton 1`` is the one-solve step
+(one sweep where the predictor is within the Picard tolerance, a piecewise-linear mechanics whose active set did
+not change: docs/theory/viscoplastic.md, "The one-sweep design").  What it leaves out, so that a real kernel costs more:
 the stick/slip switch and the line search, the enthalpy's melt kink (a solid column's heat is linear), the
 hardening's update, the energy books and every convergence test.  The chapter 8 column (thermoelastoplastic,
 ``SubgridInterface``, Ball loading) is timed in the same process, alternated with it, one thread, CPU time; the
@@ -36,20 +39,21 @@ INV_SQRT3 = 1.0 / math.sqrt(3.0)
 
 @njit(cache=True, error_model="numpy")
 def column_steps(v, vo, ge, T, e, mass_dt, idz, G0, h, T0, Y, eta_dt, dt, rho_c, cap, Tlo, Tdi, Tup, S, Kc, G, kf,
-                 snew, dgp, lo, di, up, rhs, src):
-    """One step of every column (arrays (rows, columns), columns innermost): see the module docstring."""
+                 snew, dgp, lo, di, up, rhs, src, sweeps, newton):
+    """One step of every column (arrays (rows, columns), columns innermost): ``sweeps`` sweeps, ``newton`` Newton
+    iterations in the first and one in each later one; see the module docstring."""
     nn, nc = v.shape
     M = nn - 1
     for i in range(nn):
         for j in range(nc):
             vo[i, j] = v[i, j]
-    for sweep in range(2):
+    for sweep in range(sweeps):
         for c in range(M):  # the cells' G/G0 at the sweep's temperatures
             for j in range(nc):
                 r = exp_inline(-h * (0.5 * (T[c, j] + T[c + 1, j]) - T0))
                 G[c, j] = G0 * r
                 kf[c, j] = r * INV_SQRT3
-        for it in range(2 if sweep == 0 else 1):
+        for it in range(newton if sweep == 0 else 1):
             for c in range(M):  # trial stress, closed-form return, consistent tangent
                 for j in range(nc):
                     g = G[c, j]
@@ -120,7 +124,7 @@ class Floor:
     """The prototype's state: Ball-like loading (Al: rho 2700, G0 27 GPa, 20 um in `cells` cells, dt = 1 ns),
     surface velocities 150-250 m/s across the columns, the surface at the Coulomb cap 0.7 x 10 GPa x 0.01."""
 
-    def __init__(self, ncol: int, cells: int):
+    def __init__(self, ncol: int, cells: int, sweeps: int = 2, newton: int = 2):
         nn = cells + 1
         dz = 20e-6 / cells
         self.v = np.zeros((nn, ncol))
@@ -130,12 +134,13 @@ class Floor:
         self.S = np.zeros((nn + 1, ncol))  # the stresses on the nodes' faces, S_0 at the surface
         self.Kc, self.G, self.kf, self.snew, self.dgp = (np.zeros((cells, ncol)) for _ in range(5))
         self.ge = np.full((cells, ncol), 1e-3)
+        self.counts = (sweeps, newton)
         self.args = (np.full(nn, 2700.0 * dz / 1e-9), np.full(cells, 1.0 / dz), 27e9, 1e-4, 300.0, 3e8, 5e10, 1e-9,
                      2.4e6, 7e7, np.full(nn, -0.1), np.full(nn, 0.8), np.full(nn, -0.1))
 
     def step(self):
         column_steps(self.v, self.vo, self.ge, self.T, self.e, *self.args, self.S, self.Kc, self.G, self.kf,
-                     self.snew, self.dgp, self.lo, self.di, self.up, self.rhs, self.src)
+                     self.snew, self.dgp, self.lo, self.di, self.up, self.rhs, self.src, *self.counts)
 
 
 def rate(stepper, ncol: int, steps: int) -> float:
@@ -151,9 +156,11 @@ def main() -> None:
     ap.add_argument("--cells", type=int, default=500)
     ap.add_argument("--steps", type=int, default=20, help="timed steps of the prototype (the chapter 8 column: x2.5)")
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--sweeps", type=int, default=2, help="sweeps per step (2: the kernel's late count at 1e-6 K)")
+    ap.add_argument("--newton", type=int, default=2, help="Newton iterations of the first sweep (later sweeps: 1)")
     args = ap.parse_args()
     numba.set_num_threads(1)
-    floor = Floor(args.columns, args.cells)
+    floor = Floor(args.columns, args.cells, args.sweeps, args.newton)
     floor.step()  # compile
     al, st = get_material("Al5083-H111"), get_material("AISI321")
     ch8 = SubgridInterface(args.columns, al, st, thickness=20e-6, n_cells=args.cells, model="thermoelastoplastic",
@@ -172,7 +179,8 @@ def main() -> None:
     p, c = statistics.median(protos), statistics.median(ch8s)
     print(f"{args.columns} columns x {args.cells} cells, one thread, CPU time, medians of {args.repeats}, load average "
           f"{os.getloadavg()[0]:.2f}")
-    print(f"  prototype (f = 0.7 layout floor)  {p:.3e} column-steps/s")
+    print(f"  prototype (f = 0.7 layout floor, {args.sweeps} sweeps, {args.newton} + {args.sweeps - 1} Newton) "
+          f"{p:.3e} column-steps/s")
     print(f"  chapter 8 column                  {c:.3e} column-steps/s")
     print(f"  ratio                             {p / c:.3f}   (issue 26's target at f = 0.7: 0.25)")
 
