@@ -577,7 +577,7 @@ class ViscoplasticColumns:
         dt = float(dt)
         # BDF2 for imposed slip and solid columns only (see the docstring)
         imposed = self.time_scheme == "bdf2" and not np.any(arr[3] > 0.0) \
-            and not np.any(self.e.max(axis=0) >= self.rho_c * (self.TF - self.T0))
+            and not np.any(self.e.max(axis=0) >= self._solidus_enthalpy())
         self._keep = imposed  # the step's state is BDF2's history
         if self.time_scheme == "bdf2" and imposed and self._h <= 0.0:
             self._start(*arr, dt)
