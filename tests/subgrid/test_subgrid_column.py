@@ -213,3 +213,25 @@ def test_column_sums_are_the_books_weighted_sums_in_node_order():
     scale = np.array([math.fsum(np.abs(w * X[:, j])) for j in range(40)])
     assert np.max(np.abs(got - exact) / scale) <= 2e-16
     assert np.array_equal(column_sums(w, np.ascontiguousarray(X)), got)  # the same order whatever the layout
+
+
+@pytest.mark.parametrize("h, M, r", [(20e-6, 500, 1.0), (20e-6, 500, 1.01), (2e-6, 200, 1.2), (20e-6, 100, 1.05)])
+def test_smallest_cell_is_the_grids_first_cell(h, M, r):
+    """``smallest_cell`` (what the decks check against MIN_CELL) is make_grid's first cell, bit for bit where graded."""
+    from shockfriction.friction.subgrid.column import smallest_cell
+
+    z = make_grid(h, M, r)
+    if r > 1.0:
+        assert smallest_cell(h, M, r) == z[1] - z[0] == np.min(np.diff(z))
+    else:  # linspace's cells differ from h/M by round-off
+        assert np.min(np.diff(z)) == pytest.approx(smallest_cell(h, M, r), rel=1e-9)
+
+
+def test_a_grading_whose_first_cell_underflows_is_refused():
+    """r^M beyond a float (2^2000): smallest_cell says 0 and make_grid refuses with a message (it raised
+    OverflowError, which the command line reported as an internal error)."""
+    from shockfriction.friction.subgrid.column import smallest_cell
+
+    assert smallest_cell(2e-6, 2000, 2.0) == 0.0
+    with pytest.raises(ValueError, match="underflows"):
+        make_grid(2e-6, 2000, 2.0)

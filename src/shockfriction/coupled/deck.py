@@ -74,6 +74,8 @@ class SubgridFrictionOptions(BaseModel):
             missing = [k for k in ("mu0", "f") if getattr(self, k, None) is None]
             if missing:
                 raise ValueError(f"friction law {law!r} needs {', '.join(missing)}")
+            from shockfriction.deck.subgrid import check_smallest_cell
+            check_smallest_cell(self.thickness, self.cells, self.grading)
             given = [k for k in _VISCOPLASTIC_ONLY if k in self.model_fields_set]
             if law != "subgrid-viscoplastic" and given:
                 raise ValueError(f"{', '.join(given)} only with the subgrid-viscoplastic law (law is {law!r})")

@@ -64,6 +64,24 @@ class ColumnDeck(DeckModel):
     cells: int = Field(default=500, ge=2, le=1_000_000, description="number of cells M")
     grading: float = Field(default=1.0, ge=1.0, le=2.0, description="ratio of successive cell sizes")
 
+    @model_validator(mode="after")
+    def _cells_above_an_atomic_spacing(self):
+        check_smallest_cell(self.thickness, self.cells, self.grading)
+        return self
+
+
+def check_smallest_cell(thickness: float, cells: int, grading: float) -> None:
+    """A column's smallest cell (the first, h (r - 1)/(r^M - 1)) must be at least ``MIN_CELL`` (an atomic spacing;
+    :mod:`shockfriction.friction.subgrid.column`): else a ValueError naming thickness, cells and grading."""
+    from shockfriction.friction.subgrid.column import MIN_CELL, smallest_cell
+
+    dz0 = smallest_cell(thickness, cells, grading)
+    if not dz0 >= MIN_CELL:
+        raise ValueError(f"thickness = {thickness:g} m, cells = {cells}, grading = {grading:g} give a smallest cell of "
+                         f"{dz0:.3g} m: expected at least {MIN_CELL:g} m (an atomic spacing, below which the "
+                         f"continuum column means nothing and its solves lose their precision): fewer cells, a "
+                         f"thicker column or a grading nearer 1")
+
 
 class FrictionDeck(DeckModel):
     """Friction-law parameters: tau = min(mu0 F_N, f Ymax/sqrt(3) G/G0)."""
