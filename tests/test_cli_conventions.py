@@ -305,6 +305,23 @@ print("ok")
     assert res.returncode == 0 and res.stdout.strip() == "ok", res.stderr
 
 
+def test_a_viscoplastic_run_out_of_contact_plots_without_a_warning(tmp_path):
+    """A viscoplastic sub-grid run in tension (no friction stress: tau = 0 throughout) keeps a linear stress axis: the
+    log axis of the film panel printed matplotlib's "Data has no positive values" warning to the user."""
+    import warnings
+
+    import numpy as np
+
+    from shockfriction.plot.subgrid import plot_interface
+
+    t = np.linspace(0.0, 2e-8, 5)
+    zeros = np.zeros((5, 1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        path = plot_interface(t, zeros + 300.0, zeros, ["ylp"], 1120.0, tmp_path / "i.png", film=zeros)
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_ctrl_c_exits_130(tmp_path, capsys, monkeypatch):
     import shockfriction.hydro.api as api
 

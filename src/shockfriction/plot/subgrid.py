@@ -11,7 +11,8 @@ from shockfriction.plot import subplots
 
 def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title: str = "", film=None) -> Path:
     """Interface temperature and friction stress against time, one curve per column (Figs. 7.8-7.9);
-    with ``film`` (viscoplastic model, m) a third panel with the molten film thickness and a log stress axis."""
+    with ``film`` (viscoplastic model, m) a third panel with the molten film thickness and a log stress axis (where
+    some stress is positive)."""
     if film is None:
         fig, (ax1, ax2) = subplots(2, 1, figsize=(7, 6.5), sharex=True)
     else:
@@ -19,12 +20,13 @@ def plot_interface(t, theta, tau, names, melting_temperature, path: Path, title:
         for k, name in enumerate(names):
             ax3.plot(np.asarray(t) * 1e6, np.asarray(film)[:, k] * 1e9, label=name)
         ax3.set_ylabel("molten film (nm)")
-        ax2.set_yscale("log")
     tus = np.asarray(t) * 1e6
     for k, name in enumerate(names):
         ax1.plot(tus, theta[:, k], label=name)
         if np.any(np.isfinite(tau[:, k])):
             ax2.plot(tus, tau[:, k] / 1e6, label=name)
+    if film is not None and np.any(np.asarray(tau) > 0.0):  # (a run out of contact has no stress to log-scale)
+        ax2.set_yscale("log")
     ax1.axhline(melting_temperature, color="k", ls="--", lw=0.8, label="melting")
     ax1.set_ylabel("interface temperature (K)")
     ax1.legend(loc="lower right", fontsize=8)
