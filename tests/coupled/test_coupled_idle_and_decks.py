@@ -61,6 +61,9 @@ def test_sticking_nodes_stop_heating(coupled_decks, tmp_path):
     ({"law": "subgrid-thermoelastic", "mu0": 0.3, "f": 0.5, "colums": 10}, "friction.colums"),
     ({"law": "coulomb", "mu0": 0.3, "f": 0.5}, "f only with a subgrid"),
     ({"law": "subgrid-thermoelastic", "mu0": 0.3, "f": 0.5, "profile_nodes": [99]}, "friction.profile_nodes"),
+    # the guide is Steel4340, without latent heat or melt viscosity (was an internal ValueError, exit 3)
+    ({"law": "subgrid-viscoplastic", "mu0": 0.3, "f": 0.5, "body": "guide"},
+     "friction.body = 'guide': the subgrid-viscoplastic law needs the modelled body's material with latent_heat"),
 ])
 def test_bad_subgrid_friction_block_is_a_deck_error(coupled_decks, friction, message):
     deck = coupled_decks["strip"]()

@@ -280,6 +280,11 @@ def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = Fal
         raise DeckError(f"{where}.friction.body = {fr.body!r}: expected the modelled body {modelled!r} to name a "
                         "library material (its conductivity, heat capacity and SCG data feed the columns)")
     material = get_material(mat_name)
+    missing = [k for k in ("latent_heat", "liquid_viscosity") if not material.has(k)]
+    if fr.subgrid_model == "viscoplastic" and missing:
+        raise DeckError(f"{where}.friction.body = {fr.body!r}: the subgrid-viscoplastic law needs the modelled body's "
+                        f"material with {' and '.join(missing)} ({modelled!r} is {mat_name}, which has none; model "
+                        "the other body, or another law)")
     if fr.heat_share is not None:
         other = float(fr.heat_share)
     else:
