@@ -136,7 +136,7 @@ def temperature(rho, e, props, table, m):
 def isentrope_table(props_row: np.ndarray) -> tuple[float, float, np.ndarray]:
     """(mu_lo, mu_hi, e_s) for a Mie-Grueneisen row: de/dmu = (A + B e)/(rho0 (1+mu)^2), e(0) = 0.
 
-    Integrated by RK4 from mu = 0 outwards on a grid 8x finer than the table.
+    Integrated by RK4 from mu = 0 outwards on a grid 8x finer than the table (:func:`_isentrope`).
     """
     s = props_row[P_S]
     eta_max = 0.9 / s if s > 1.0 else 0.9
@@ -145,30 +145,40 @@ def isentrope_table(props_row: np.ndarray) -> tuple[float, float, np.ndarray]:
     mu_lo = -round(0.4 / h) * h  # mu = 0 is a grid point
     mu_hi = mu_lo + (N_TABLE - 1) * h
     mu = mu_lo + h * np.arange(N_TABLE)
-    row = props_row.reshape(1, -1)
-    rho0 = props_row[P_RHO0]
+    return mu_lo, mu_hi, _isentrope(mu, int(np.argmin(np.abs(mu))), props_row[P_EOS], props_row[P_RHO0],
+                                    props_row[P_C0], props_row[P_S], props_row[P_GAMMA0], props_row[P_GAMMA])
 
-    def rate(m, e):
-        a, b, _ = eos_ab(rho0 * (1.0 + m), row, 0)
-        return (a + b * e) / (rho0 * (1.0 + m) ** 2)
 
-    def integrate(m, e, target, nsub=8):
-        h = (target - m) / nsub
-        for _ in range(nsub):
-            k1 = rate(m, e)
-            k2 = rate(m + h / 2, e + h / 2 * k1)
-            k3 = rate(m + h / 2, e + h / 2 * k2)
-            k4 = rate(m + h, e + h * k3)
-            e += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-            m += h
-        return e
+@njit(cache=True)
+def _isentrope_rate(m, e, kind, rho0, c0, s, g0, gamma):
+    """de/dmu = (A + B e)/(rho0 (1 + mu)^2) on the isentrope."""
+    a, b, _ = eos_ab_s(rho0 * (1.0 + m), kind, rho0, c0, s, g0, gamma)
+    return (a + b * e) / (rho0 * (1.0 + m) ** 2)
 
-    i0 = int(np.argmin(np.abs(mu)))
-    out = np.zeros(N_TABLE)
-    out[i0] = integrate(0.0, 0.0, mu[i0])
-    for direction in (1, -1):
-        k = i0
-        while 0 <= k + direction < N_TABLE:
-            out[k + direction] = integrate(mu[k], out[k], mu[k + direction])
-            k += direction
-    return mu_lo, mu_hi, out
+
+@njit(cache=True)
+def _isentrope_leg(m, e, target, kind, rho0, c0, s, g0, gamma):
+    """e at mu = target from e at mu = m: RK4 in 8 sub-steps."""
+    h = (target - m) / 8
+    for _ in range(8):
+        k1 = _isentrope_rate(m, e, kind, rho0, c0, s, g0, gamma)
+        k2 = _isentrope_rate(m + h / 2, e + h / 2 * k1, kind, rho0, c0, s, g0, gamma)
+        k3 = _isentrope_rate(m + h / 2, e + h / 2 * k2, kind, rho0, c0, s, g0, gamma)
+        k4 = _isentrope_rate(m + h, e + h * k3, kind, rho0, c0, s, g0, gamma)
+        e += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        m += h
+    return e
+
+
+@njit(cache=True)
+def _isentrope(mu, i0, kind, rho0, c0, s, g0, gamma):
+    """e_s at the grid points mu, integrated from e = 0 at mu = 0 to mu[i0] (the grid point at 0), then outwards
+    leg by leg in both directions (one RK4 leg per table interval)."""
+    n = mu.size
+    out = np.zeros(n)
+    out[i0] = _isentrope_leg(0.0, 0.0, mu[i0], kind, rho0, c0, s, g0, gamma)
+    for k in range(i0, n - 1):
+        out[k + 1] = _isentrope_leg(mu[k], out[k], mu[k + 1], kind, rho0, c0, s, g0, gamma)
+    for k in range(i0, 0, -1):
+        out[k - 1] = _isentrope_leg(mu[k], out[k], mu[k - 1], kind, rho0, c0, s, g0, gamma)
+    return out
