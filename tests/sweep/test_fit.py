@@ -167,6 +167,35 @@ def test_bad_fit_files_exit_2_with_field_and_expectation(tmp_path, capsys, model
         assert frag in err
 
 
+def test_measured_samples_beyond_the_run_exit_2(tmp_path, capsys, models_importable):
+    """A measured record whose times lie beyond what the run computes (here 100 us later than the model's 10 us)
+    exits 2 before the fit starts: np.interp would have held the record's end value there and the fit compared the
+    samples with a constant the run never computed (it reported a residual and a best fit)."""
+    synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us"}, noise=0.0)
+    data = np.loadtxt(tmp_path / "measured.csv", delimiter=",", skiprows=1)
+    np.savetxt(tmp_path / "measured.csv", np.c_[data[:, 0] + 100.0, data[:, 1]], delimiter=",",
+               header="time,velocity", comments="")
+    (tmp_path / "fit.toml").write_text(RAMP_FIT)
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", str(tmp_path / "fit.toml"), "--out", str(tmp_path / "out"), "--workers", "1", "--allow-python"])
+    assert exc.value.code == 2
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+    err = " ".join(capsys.readouterr().err.split())
+    assert "401 of 401 measured samples (at the initial time shift) fall beyond the computed record" in err
+
+
+def test_samples_the_fitted_shift_moves_beyond_the_run_are_reported(tmp_path, models_importable):
+    """A fitted time shift of 280 ns moves the first measured samples (0-0.24 us, every 20 ns) before the run's
+    record starts (0, every 26.7 ns): the fit still runs, and its message says how many samples were compared with
+    the record's end values: 13, counted by hand."""
+    synthetic(tmp_path, {"a": 2.0, "tau": "0.8 us", "t0": "280 ns"}, noise=0.0)
+    (tmp_path / "fit.toml").write_text(RAMP_FIT)
+    with ThreadPoolExecutor(1) as ex:
+        res = fit(tmp_path / "fit.toml", executor=ex)
+    assert res.values[2] == pytest.approx(280e-9, rel=1e-3)
+    assert "(13 measured samples fall beyond the computed record at the fitted time shift" in res.message
+
+
 def test_fit_through_a_dask_cluster_equals_the_local_fit(tmp_path, monkeypatch):
     from dask.distributed import LocalCluster
 

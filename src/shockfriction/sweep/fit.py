@@ -222,6 +222,17 @@ class FitProblem:
         t_c, y_c = rec
         return ds.weight * (np.interp(ds.t_m - shift, t_c, y_c) - ds.y_m)
 
+    def beyond(self, ds: _Data, rec: tuple[np.ndarray, np.ndarray], x: np.ndarray) -> int:
+        """How many measured samples, at the time shift of x, fall outside the computed record's span by more than
+        one record interval: np.interp holds the record's end values there, values the run never computed."""
+        shift = x[ds.shift] if ds.shift is not None else 0.0
+        t_c = rec[0]
+        if t_c.size == 0:
+            return int(ds.t_m.size)
+        gap = float(np.max(np.diff(t_c))) if t_c.size > 1 else 0.0
+        t = ds.t_m - shift
+        return int(np.count_nonzero((t < t_c[0] - gap) | (t > t_c[-1] + gap)))
+
     def residual(self, recs: list, x: np.ndarray) -> np.ndarray:
         return np.concatenate([self.block(ds, rec, x) for ds, rec in zip(self.data, recs)])
 
@@ -321,6 +332,15 @@ def best_start(prob: FitProblem, z0: np.ndarray, starts: int, seed: int) -> tupl
 def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=None,
            trust: Trust = TRUSTED) -> FitResult:
     prob = FitProblem(spec, here, ex, source, on_evaluation, trust)
+    for ds, rec in zip(prob.data, prob.records([prob.x0])[0]):  # (the first evaluation's runs: cached)
+        n = prob.beyond(ds, rec, prob.x0)
+        if n:
+            t_c = rec[0]
+            span = f"{t_c[0]:.4g}-{t_c[-1]:.4g} s" if t_c.size else "empty"
+            raise DeckError(f"{source}: {ds.name + ': ' if ds.name else ''}{n} of {ds.t_m.size} measured samples "
+                            f"(at the initial time shift) fall beyond the computed record {ds.record}.{ds.time}, "
+                            f"{span}: expected the run to cover the samples (a longer duration or time.end, or "
+                            "a measured.window)")
     z0 = (prob.x0 - prob.lo) / (prob.hi - prob.lo)
     s = spec.solver
     if s.starts > 1:
@@ -331,7 +351,9 @@ def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=N
     J = sol.jac / (prob.hi - prob.lo)  # dr/dx from dr/dz
     cov, ident, dof = covariance(J, sol.fun)
     curves = []
+    outside = 0
     for ds, (t_c, y_c) in zip(prob.data, prob.records([x])[0]):
+        outside += prob.beyond(ds, (t_c, y_c), x)
         shift = x[ds.shift] if ds.shift is not None else 0.0
         r = np.interp(ds.t_m - shift, t_c, y_c) - ds.y_m
         curves.append(Curve(ds.name, f"{ds.record}.{ds.value} (SI)", ds.t_m, ds.y_m, t_c + shift, y_c,
@@ -341,7 +363,10 @@ def _solve(spec: FitSpec, here: Path, ex: Executor, source: str, on_evaluation=N
         names=prob.names, units=prob.all_units, values=x, sigma=np.sqrt(np.diag(cov)), covariance=cov,
         identifiable=ident, at_bound=[bool(z <= tol or z >= 1 - tol) for z in sol.x],
         rms=float(np.sqrt(np.mean(sol.fun**2))), sum_squares=float(sol.fun @ sol.fun), dof=dof,
-        samples=len(sol.fun), success=bool(sol.success), message=str(sol.message), evaluations=int(sol.nfev),
+        samples=len(sol.fun), success=bool(sol.success),
+        message=str(sol.message) + (f" ({outside} measured samples fall beyond the computed record at the fitted "
+                                    "time shift: compared with its end values)" if outside else ""),
+        evaluations=int(sol.nfev),
         runs=prob.runs, curves=curves, weighted=prob.weighted, history=prob.history)
 
 
