@@ -88,6 +88,18 @@ def test_weak_piston_is_elastic_and_acoustic():
     assert sol.final.stress == pytest.approx(AL.rho0 * c_l * 1e-3, rel=1e-6)
 
 
+@pytest.mark.parametrize("up", [1e-9, 1e-13])
+def test_a_piston_below_the_densitys_resolution_moves_at_c_l(up):
+    """A piston so slow that the elastic jump's density equals rho0 in floating point: the acoustic limit c_L, not
+    0/0 (it was nan with a RuntimeWarning: `shockfriction impact ... --velocity 1e-9m/s`)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sol = H.elastic_plastic_piston(AL, G_AL, Y_AL, up)
+    assert sol.precursor_speed == pytest.approx(H.longitudinal_sound_speed(AL, G_AL), rel=1e-6)
+
+
 def test_vanishing_strength_recovers_hydrodynamic_hugoniot():
     sol = H.elastic_plastic_piston(AL, G_AL, 1e2, 125.0)  # Y = 100 Pa
     assert sol.final.pressure == pytest.approx(AL.hugoniot_pressure_of_up(125.0), rel=1e-6)

@@ -265,7 +265,10 @@ def elastic_plastic_piston(eos: LinearHugoniotEOS, shear_modulus: float,
             return _elastic_jump(eos, G, eos.rho0 * np.exp(log_ratio)).u - piston_velocity
         log_ratio = brentq(mismatch_elastic, 0.0, np.log(hel.rho / eos.rho0), xtol=1e-16, rtol=1e-15)
         final = _elastic_jump(eos, G, eos.rho0 * np.exp(log_ratio))
-        speed = final.rho * final.u / (final.rho - eos.rho0)
+        if final.rho - eos.rho0 > 1e-6 * eos.rho0:  # mass: U = rho u / (rho - rho0)
+            speed = final.rho * final.u / (final.rho - eos.rho0)
+        else:  # a jump of < 1e-6 in density: the acoustic limit c_L (within ~1e-6), where the jump's own
+            speed = longitudinal_sound_speed(eos, G)  # rounding would cost more (0/0 once rho rounds to rho0)
         return TwoWaveSolution(precursor=final, final=final, precursor_speed=speed, plastic_speed=None,
                                hel=hel.stress)
 
