@@ -45,6 +45,8 @@ def test_melted_operating_point_gives_null_not_nan(capsys):
     assert code in (0, None)
     data = json.loads(out)  # strict JSON: NaN would have been written as NaN and fail here
     assert data["materials"][0]["max_stable_strain"] is None
+    code, out, _ = run(ARGS + ["--temperature", "1300 K"], capsys)  # the table: words, not nan
+    assert code in (0, None) and "none (melted)" in out and "nan" not in out
 
 
 @pytest.mark.parametrize("change, message", [

@@ -56,6 +56,11 @@ def _finite(obj):
     return obj
 
 
+def _or_melted(x: float) -> str:
+    """A number of the table, or "none (melted)" where it is undefined (nan: no strength at Theta0; JSON: null)."""
+    return f"{x:.4g}" if math.isfinite(x) or math.isinf(x) else "none (melted)"
+
+
 def _print_tables(result) -> None:
     from rich.console import Console
     from rich.table import Table
@@ -106,7 +111,7 @@ def _print_tables(result) -> None:
     t.add_row("shear band kappa0 T_F/(Y V0) (um)",
               f"{a.shear_band_thickness * um:.4g}", f"{b.shear_band_thickness * um:.4g}")
     t.add_row("heat share beta_T (effusivities)", f"{a.heat_share:.4g}", f"{b.heat_share:.4g}")
-    t.add_row("largest stable plastic strain (eq. 6.72)", f"{a.max_stable_strain:.4g}", f"{b.max_stable_strain:.4g}")
+    t.add_row("largest stable plastic strain (eq. 6.72)", *(_or_melted(m.max_stable_strain) for m in (a, b)))
     t.add_row("saturation strain eps_sat", f"{a.saturation_strain:.4g}", f"{b.saturation_strain:.4g}")
     console.print(t)
 
