@@ -58,7 +58,7 @@ def _finite(obj):
 
 def _or_melted(x: float) -> str:
     """A number of the table, or "none (melted)" where it is undefined (nan: no strength at Theta0; JSON: null)."""
-    return f"{x:.4g}" if math.isfinite(x) or math.isinf(x) else "none (melted)"
+    return "none (melted)" if math.isnan(x) else f"{x:.4g}"
 
 
 def _print_tables(result) -> None:
