@@ -61,7 +61,7 @@ from numba import njit
 from shockfriction.friction.laws import corrected_traction, relaxation_rate, slip_weight, traction_limit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _inverse_pair_mass(j, i_g, gnode, gw, mass):
     """1/m_g + 1/m_G for pair j."""
     inv = 1.0 / mass[i_g]
@@ -84,7 +84,7 @@ def _inverse_pair_masses(slave, gnode, gw, mass, active):
     return inv
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _relative_velocity(vx, vy, j, i_g, gnode, gw, dx, dy):
     """(v_g - v_G).d with v_G = sum_i w_i v_i."""
     ux = vx[i_g]
@@ -97,7 +97,7 @@ def _relative_velocity(vx, vy, j, i_g, gnode, gw, dx, dy):
     return ux * dx + uy * dy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _apply(vx, vy, mass, j, i_g, gnode, gw, dx, dy, p):
     """Impulse +p d on the slave node, -p d on its projection shared w_i p by the guide nodes."""
     vx[i_g] += p * dx / mass[i_g]
@@ -202,7 +202,7 @@ def penetration_projection(vx, vy, mass, slave, gnode, gw, nx, ny, gap, active, 
     return sweeps
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def capped_update(vx, vy, mass, j, i_g, gnode, gw, tx, ty, lam_t, cap, s, inv_pair):
     """One projected Gauss-Seidel update of pair j: move its tangential impulse toward the value
     that cancels the slip s, clipped to [-cap, cap], and apply the change (equal and opposite on

@@ -191,20 +191,21 @@ def guide_chunk_boxes(gx, gy, chunk, box):
 
 
 @njit(cache=True, inline="always")
-def _box_distance(px, py, xmin, xmax, ymin, ymax):
+def _box_far(px, py, xmin, xmax, ymin, ymax, bound):
+    """True when the box is farther than ``bound`` from (px, py) (squared distances: no square root per box)."""
     ex = max(xmin - px, 0.0, px - xmax)
     ey = max(ymin - py, 0.0, py - ymax)
-    return math.sqrt(ex * ex + ey * ey)
+    return ex * ex + ey * ey > bound * bound
 
 
 @njit(cache=True, inline="always")
 def _segment_far(px, py, gx, gy, k, bound):
     """True when segment k's bounding box is farther than ``bound`` from (px, py)."""
-    return _box_distance(px, py, min(gx[k], gx[k + 1]), max(gx[k], gx[k + 1]),
-                         min(gy[k], gy[k + 1]), max(gy[k], gy[k + 1])) > bound
+    return _box_far(px, py, min(gx[k], gx[k + 1]), max(gx[k], gx[k + 1]), min(gy[k], gy[k + 1]),
+                    max(gy[k], gy[k + 1]), bound)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _pair_node(j, xs, ys, gx, gy, normal_sign, max_gap, max_penetration, chunk, box, pad, seg, coef, nx, ny,
                tx, ty, gap, active):
     """Slave node j, at (xs, ys), of :func:`pair_slave_nodes_local` (it reads and writes only entry j)."""
@@ -239,7 +240,7 @@ def _pair_node(j, xs, ys, gx, gy, normal_sign, max_gap, max_penetration, chunk, 
                 b = hi + 1
             else:
                 bound = min(min(sbest, cbest), hmax) + pad
-                if _box_distance(xs, ys, box[c, 0], box[c, 1], box[c, 2], box[c, 3]) > bound:
+                if _box_far(xs, ys, box[c, 0], box[c, 1], box[c, 2], box[c, 3], bound):
                     continue
                 a = c * chunk
                 b = min((c + 1) * chunk, nseg)
@@ -391,7 +392,7 @@ def closest_guide_coordinate(px, py, gx, gy):
     return xi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def closest_guide_coordinate_local(px, py, gx, gy, seed, chunk, box, pad):
     """:func:`closest_guide_coordinate` searched from segment ``seed``: the same coordinate.
 
@@ -413,17 +414,19 @@ def closest_guide_coordinate_local(px, py, gx, gy, seed, chunk, box, pad):
                 best = d2
                 bk = k
                 xi = k + u
+    reach = math.sqrt(best) + pad
     for c in range(box.shape[0]):
-        if _box_distance(px, py, box[c, 0], box[c, 1], box[c, 2], box[c, 3]) > math.sqrt(best) + pad:
+        if _box_far(px, py, box[c, 0], box[c, 1], box[c, 2], box[c, 3], reach):
             continue
         for k in range(c * chunk, min((c + 1) * chunk, nseg)):
-            if lo <= k <= hi or _segment_far(px, py, gx, gy, k, math.sqrt(best) + pad):
+            if lo <= k <= hi or _segment_far(px, py, gx, gy, k, reach):
                 continue
             d2, u = _closest_on_segment(px, py, gx, gy, k)
             if d2 < best or (d2 == best and k < bk):
                 best = d2
                 bk = k
                 xi = k + u
+                reach = math.sqrt(best) + pad
     return xi
 
 
@@ -447,7 +450,7 @@ def slave_hat_coordinates(xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, 
                   coef, active, gx, gy, periodic, xi_prev, xi_node, xi_next, chunk, box, pad)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _hat_node(j, xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next, seg, coef, active, gx, gy, periodic,
               xi_prev, xi_node, xi_next, chunk, box, pad):
     """Slave node j of :func:`slave_hat_coordinates` (the node at (xs, ys), its offsets to its neighbours)."""
@@ -483,7 +486,7 @@ def _hat_node(j, xs, ys, prev_dx, prev_dy, next_dx, next_dy, has_prev, has_next,
             xi_next[j] = xi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _add_weight(gnode, gw, j, used, node, c):
     for q in range(used):
         if gnode[j, q] == node:
