@@ -41,9 +41,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 from scipy.optimize import brentq
-from scipy.special import erfc
 
 from shockfriction.analysis.stability import ScgConstants, max_stable_strain
+from shockfriction.friction.subgrid.analytic import ierfc
 from shockfriction.materials.library import Material, heat_share
 from shockfriction.materials.strength import yield_stress
 
@@ -182,16 +182,11 @@ def dimensionless_numbers(material: Material, time: float, velocity: float,
     return n
 
 
-def ierfc(x: float) -> float:
-    """First repeated integral of erfc: exp(-x^2)/sqrt(pi) - x erfc(x)."""
-    return math.exp(-x * x) / math.sqrt(math.pi) - x * float(erfc(x))
-
-
 def column_depth(diffusivity: float, time: float, fraction: float = DEFAULT_COLUMN_FRACTION) -> float:
     """Depth where the constant-flux temperature rise is ``fraction`` of the surface rise (Carslaw-Jaeger)."""
     if not 0.0 < fraction < 1.0:
         raise ValueError(f"fraction must lie in (0, 1), got {fraction}")
-    x = brentq(lambda u: ierfc(u) - fraction / math.sqrt(math.pi), 0.0, 10.0, xtol=1e-14)
+    x = brentq(lambda u: float(ierfc(u)) - fraction / math.sqrt(math.pi), 0.0, 10.0, xtol=1e-14)
     return 2.0 * x * math.sqrt(diffusivity * time)
 
 

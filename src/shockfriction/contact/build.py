@@ -205,7 +205,8 @@ def build_interfaces(entries, simulation) -> list[SlideLineInterface]:
         if fr.subgrid_model is not None:  # sub-grid columns take over the friction step (shockfriction.coupled)
             from shockfriction.coupled.friction import build_subgrid_friction
 
-            line.friction_model = build_subgrid_friction(sl, line, bodies, where, state=state)
+            line.friction_model = build_subgrid_friction(sl, line, bodies, where, state=state,
+                                                         t_end=float(deck.time.end))
         out.append(SlideLineInterface(line, share is not None, simulation))
     return out
 

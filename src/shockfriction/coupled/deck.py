@@ -17,9 +17,11 @@ with::
                  profile_interval = "100 ns",  # default: 5 nodes, every 10th record
                  picard_tol = "1e-6 K",     # subgrid-viscoplastic only: its Picard tolerance (default 1e-6 K)
                  pressure_melting = true,   # subgrid-viscoplastic only: T_m(sigma_n) by the SCG melt law
-                 closure = "excess" }       # subgrid-viscoplastic only: the layer adds only its flow in excess
+                 closure = "excess",        # subgrid-viscoplastic only: the layer adds only its flow in excess
                                             # of the body's ("excess", default); "shear", "held": far end driven
                                             # or held (thickness-dependent, kept for comparison)
+                 depth = "1 mm" }           # closure "excess" only: the column continued thermally to this depth
+                                            # (default 1 mm; at least 4 sqrt(alpha time.end) of the modelled body)
 
 With ``law = "subgrid-viscoplastic"`` and no ``heat_share`` the columns share the heat with the other body by
 conduction (a thermal column in it, two-sided heat); ``heat_share`` keeps the fixed share of the thesis.
@@ -39,8 +41,8 @@ from shockfriction.units import Dimensionless, PicardTolerance, PositiveLength, 
 SUBGRID_LAWS = {"subgrid-thermoelastic": "thermoelastic", "subgrid-thermoelastoplastic": "thermoelastoplastic",
                 "subgrid-viscoplastic": "viscoplastic"}
 _OPTIONS = ("f", "thickness", "cells", "grading", "body", "heat_share", "taylor_quinney", "profile_nodes",
-            "profile_interval", "picard_tol", "pressure_melting", "closure")
-_VISCOPLASTIC_ONLY = ("picard_tol", "pressure_melting", "closure")
+            "profile_interval", "picard_tol", "pressure_melting", "closure", "depth")
+_VISCOPLASTIC_ONLY = ("picard_tol", "pressure_melting", "closure", "depth")
 
 
 class SubgridFrictionOptions(BaseModel):
@@ -66,6 +68,10 @@ class SubgridFrictionOptions(BaseModel):
                               "unheated body's, continued thermally to 1 mm, independent of the thickness; "
                               "'shear': far end driven by the hydro's shear of the layer; 'held': far end held at "
                               "the node, version 0.3; the last two depend on the thickness)")
+    depth: Optional[PositiveLength] = Field(
+        None, le=1.0, description="subgrid-viscoplastic with closure 'excess' only: the depth to which the column is "
+                                  "continued thermally below its thickness by geometric cells (omitted: 1 mm); at "
+                                  "least 4 sqrt(alpha time.end) of the modelled body, which the run checks")
 
     @model_validator(mode="after")
     def _subgrid_keys(self):
@@ -79,6 +85,11 @@ class SubgridFrictionOptions(BaseModel):
             given = [k for k in _VISCOPLASTIC_ONLY if k in self.model_fields_set]
             if law != "subgrid-viscoplastic" and given:
                 raise ValueError(f"{', '.join(given)} only with the subgrid-viscoplastic law (law is {law!r})")
+            if self.depth is not None and self.closure != "excess":
+                raise ValueError(f"depth only with closure = 'excess' (closure is {self.closure!r}: its column ends "
+                                 "at the thickness)")
+            if self.depth is not None and not self.depth > self.thickness:
+                raise ValueError(f"depth = {self.depth:g} m: expected more than thickness = {self.thickness:g} m")
         else:
             given = [k for k in _OPTIONS if k in self.model_fields_set]
             if given:

@@ -37,6 +37,7 @@ from the columns' only where the actual corrected slip differs from the columns'
 
 from __future__ import annotations
 
+import math
 
 import numpy as np
 
@@ -60,6 +61,9 @@ COUPLED_VISCOPLASTIC = {"far_end": "held"}
 # an aluminium alloy is 0.28 mm at 100 us): the answer then does not depend on the thickness
 EXCESS_DEPTH = 1e-3
 EXCESS_DEPTH_RATIO = 1.1
+#: the depth must reach THERMAL_REACH sqrt(alpha t_end): the surface heat's rise there is erfc(THERMAL_REACH/2) = 0.5 %
+#: of the surface's, so the insulated end returns a negligible part of it (slide_lines[k].friction.depth)
+THERMAL_REACH = 4.0
 CLOSURES = ("excess", "shear", "held")
 
 
@@ -76,7 +80,8 @@ class SubgridFriction:
                  thickness: float = 20e-6, cells: int = 500, grading: float = 1.0, taylor_quinney: float = 0.9,
                  T0: float = 300.0, bilateral: bool = False, profile_nodes=None, profile_interval: float = 0.0,
                  modelled_body: str = "slave", trace: bool = False, picard_tol: float | None = None,
-                 pressure_melting: bool = True, closure: str = "excess", state=None):
+                 pressure_melting: bool = True, closure: str = "excess", state=None,
+                 excess_depth: float = EXCESS_DEPTH):
         self.name = name
         self.model = model
         self.modelled_body = modelled_body
@@ -87,7 +92,7 @@ class SubgridFriction:
         self.columns = SubgridInterface(n_nodes, material, other, thickness=thickness, n_cells=cells,
                                         grading=grading, model=model, mu0=mu0, f=f, taylor_quinney=taylor_quinney,
                                         T0=T0, viscoplastic={**COUPLED_VISCOPLASTIC,
-                                                             **({"far_end": "excess", "depth": EXCESS_DEPTH,
+                                                             **({"far_end": "excess", "depth": float(excess_depth),
                                                                  "depth_ratio": EXCESS_DEPTH_RATIO}
                                                                 if closure == "excess" else {}),
                                                              "picard_tol": picard_tol,
@@ -261,11 +266,13 @@ class SubgridFriction:
         return {key: float(getattr(self, key)) for key in ENERGY_KEYS}
 
 
-def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = False, state=None) -> SubgridFriction:
+def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = False, state=None,
+                           t_end: float | None = None) -> SubgridFriction:
     """The :class:`SubgridFriction` of a validated slide-line deck entry ``sl`` on ``line``.
 
     ``bodies`` maps body names to their deck entries (material, initial temperature); ``state`` the hydro state
-    (the viscoplastic columns' "shear" closure reads its positions and cells).
+    (the viscoplastic columns' "shear" closure reads its positions and cells); ``t_end`` the run's end time (s),
+    against which the "excess" closure's depth is checked (:data:`THERMAL_REACH`).
     """
     from shockfriction.materials.library import get_material
 
@@ -297,6 +304,15 @@ def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = Fal
     if not T0 < material.melting_temperature:
         raise DeckError(f"bodies.{modelled}.temperature = {T0}: expected below the melting temperature "
                         f"{material.melting_temperature} K of {mat_name}")
+    depth = EXCESS_DEPTH if fr.depth is None else float(fr.depth)
+    if fr.subgrid_model == "viscoplastic" and fr.closure == "excess" and t_end is not None:
+        reach = THERMAL_REACH * math.sqrt(material.diffusivity * float(t_end))
+        if depth < reach:
+            given = f"{where}.friction.depth = {depth:g} m" if fr.depth is not None else \
+                f"{where}.friction.depth (omitted: {depth:g} m)"
+            raise DeckError(f"{given}: expected at least 4 sqrt(alpha t_end) = {reach:.3g} m for {mat_name} "
+                            f"(alpha = {material.diffusivity:.3g} m^2/s) over time.end = {float(t_end):g} s, or the "
+                            "frictional heat reaches the column's insulated end and stays there; set a larger depth")
     n = line.slave.size
     nodes = fr.profile_nodes
     if nodes is not None:
@@ -312,4 +328,4 @@ def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = Fal
                            taylor_quinney=fr.taylor_quinney, T0=T0, bilateral=sl.contact == "bilateral",
                            profile_nodes=nodes, profile_interval=interval, modelled_body=fr.body, trace=trace,
                            picard_tol=fr.picard_tol, pressure_melting=fr.pressure_melting, closure=fr.closure,
-                           state=state)
+                           state=state, excess_depth=depth)
