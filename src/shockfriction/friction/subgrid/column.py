@@ -175,7 +175,16 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
     ``sfx[b, j]`` receives the suffix maximum max_{i >= 8b} theta_ad[i, j] (``sfx[0]``: the column maximum).
     The factored Thomas sweeps (eq. A.6-A.12) run row by row, each row's update vectorised across the columns.
     """
-    nn, ncol = X.shape
+    ncol = X.shape[1]
+    j0, j1, s0, s1 = sweep_span(ncol, j0, j1, s0, s1)
+    sweep_block(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, clipped, deposited, mult, inv_bp, c,
+                idle, idle_val, sfx, j0, j1, s0, s1, 0, ncol)
+
+
+@njit(cache=True)
+def sweep_span(ncol, j0, j1, s0, s1):
+    """The swept columns [j0, j1) and the source columns [s0, s1) within them, as :func:`sweep_columns` takes them
+    (``j1 < 0``: every column; ``s1 < 0``: every swept column)."""
     j0 = max(j0, 0)
     j1 = ncol if j1 < 0 else min(j1, ncol)
     j1 = max(j1, j0)
@@ -183,17 +192,32 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
         s1 = ncol
     s0 = min(max(s0, j0), j1)  # the source columns, within the swept ones
     s1 = max(min(s1, j1), s0)
+    return j0, j1, s0, s1
+
+
+@njit(cache=True, inline="always")
+def sweep_block(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, clipped, deposited, mult, inv_bp, c,
+                idle, idle_val, sfx, j0, j1, s0, s1, a, e):
+    """:func:`sweep_columns` of the columns a <= j < e only (spans from :func:`sweep_span`): every column's
+    arithmetic is its own, so blocks that partition the columns give the whole sweep's bytes in any order or in
+    parallel (:func:`~shockfriction.friction.subgrid.thermoelastoplastic.advance_and_solve_parallel`)."""
+    nn = X.shape[0]
+    ja = max(j0, a)  # this block's swept and source columns
+    jb = max(min(j1, e), ja)
+    sa = min(max(s0, ja), jb)
+    sb = max(min(s1, jb), sa)
     u0 = unit[0]
     for k in range(idle.shape[0]):
         j = idle[k]
-        idle_val[k] = X[0, j] + q[j] * u0 if lazy else X[0, j]
-    for j in range(ncol):
+        if a <= j < e:
+            idle_val[k] = X[0, j] + q[j] * u0 if lazy else X[0, j]
+    for j in range(a, e):
         deposited[j] = 0.0
         clipped[j] = 0.0
-    qa, qs, qb = q[j0:s0], q[s0:s1], q[s1:j1]
+    qa, qs, qb = q[ja:sa], q[sa:sb], q[sb:jb]
     # forward elimination (eq. A.6-A.8): the source rows, then the rest; the columns without a source
     # take th + 0 factor = th
-    ns = min(n_src, nn) if s1 > s0 else 0
+    ns = min(n_src, nn) if sb > sa else 0
     for i in range(max(ns, 1)):
         cur = X[i]
         prev = X[i - 1 if i > 0 else 0]
@@ -201,15 +225,15 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
         m = mult[i]
         first = i == 0
         if i < ns:
-            _source_row(cur[s0:s1], prev[s0:s1], qs, src[i][s0:s1], clipped[s0:s1], deposited[s0:s1], u, m,
+            _source_row(cur[sa:sb], prev[sa:sb], qs, src[i][sa:sb], clipped[sa:sb], deposited[sa:sb], u, m,
                         weights[i], rho_c, limit, factor, lazy, first)
-            _plain_row(cur[j0:s0], prev[j0:s0], qa, u, m, lazy, first)
-            _plain_row(cur[s1:j1], prev[s1:j1], qb, u, m, lazy, first)
+            _plain_row(cur[ja:sa], prev[ja:sa], qa, u, m, lazy, first)
+            _plain_row(cur[sb:jb], prev[sb:jb], qb, u, m, lazy, first)
         else:
-            _plain_row(cur[j0:j1], prev[j0:j1], q[j0:j1], u, m, lazy, first)
-    qj = q[j0:j1]
+            _plain_row(cur[ja:jb], prev[ja:jb], q[ja:jb], u, m, lazy, first)
+    qj = q[ja:jb]
     for i in range(max(ns, 1), nn):
-        _plain_row(X[i][j0:j1], X[i - 1][j0:j1], qj, unit[i], mult[i], lazy, False)
+        _plain_row(X[i][ja:jb], X[i - 1][ja:jb], qj, unit[i], mult[i], lazy, False)
     # back substitution (eq. A.9-A.12) in blocks of 8 rows, then the block's suffix maxima
     nb = sfx.shape[0]
     for b in range(nb - 1, -1, -1):
@@ -217,20 +241,22 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
         i1 = min(i0 + 8, nn)
         for i in range(i1 - 1, i0 - 1, -1):
             cur = X[i]
-            _back_row(cur[j0:j1], X[min(i + 1, nn - 1)][j0:j1], c[i], inv_bp[i], i == nn - 1)
+            _back_row(cur[ja:jb], X[min(i + 1, nn - 1)][ja:jb], c[i], inv_bp[i], i == nn - 1)
             for k in range(idle.shape[0]):
-                cur[idle[k]] = idle_val[k]
-        top = sfx[b][j0:j1]
+                j = idle[k]
+                if a <= j < e:
+                    cur[j] = idle_val[k]
+        top = sfx[b][ja:jb]
         first = X[i1 - 1] if b == nb - 1 else sfx[b + 1]
-        top[:] = first[j0:j1]
+        top[:] = first[ja:jb]
         for i in range(i0, i1):
-            _max_row(top, X[i][j0:j1])
+            _max_row(top, X[i][ja:jb])
     # the columns outside [j0, j1): idle, not swept (uniform, so every suffix maximum is theta(0))
     for b in range(nb):
         top = sfx[b]
-        for j in range(0, j0):
+        for j in range(a, min(j0, e)):
             top[j] = X[0, j] + q[j] * u0 if lazy else X[0, j]
-        for j in range(j1, ncol):
+        for j in range(max(j1, a), e):
             top[j] = X[0, j] + q[j] * u0 if lazy else X[0, j]
 
 
@@ -508,6 +534,15 @@ class ThermalColumns:
         energy per column goes to ``self._clipped``, sum_i w_i src_kept to ``self._deposited``).
         ``src_span = (s0, s1)``: ``src`` is zero outside the columns s0 <= j < s1 (default: anywhere).
         """
+        args = self.sweep_plan(dt, src, n_src, factor, limit, src_flags, src_span)
+        sweep_columns(*args)
+        return self.swept()
+
+    def sweep_plan(self, dt: float, src: np.ndarray | None = None, n_src: int = 0, factor: float = 1.0,
+                   limit: float = math.inf, src_flags: np.ndarray | None = None,
+                   src_span: tuple[int, int] | None = None) -> tuple:
+        """The arguments of :func:`sweep_columns` for :meth:`advance` (its keywords), spans resolved by
+        :func:`sweep_span`; after the sweep (here or in a caller's fused kernel) call :meth:`swept`."""
         self.prepare(dt)
         if src is None:
             src, n_src = self._no_src, 0
@@ -516,9 +551,13 @@ class ThermalColumns:
         else:
             j0, j1, idle = self._span(src_flags, (0, self.n_columns) if src_span is None else src_span)
         s0, s1 = src_span if src_span is not None else (j0, j1)
-        sweep_columns(self.X, self.q_lazy, self.unit_lazy, self.lazy, src, int(n_src), float(factor), self.rho_c,
-                      float(limit), self.weights, self._clipped, self._deposited, self.mult, self.inv_bp, self.c,
-                      idle, self._idle_val, self._sfx, j0, j1, s0, s1)
+        j0, j1, s0, s1 = sweep_span(self.n_columns, j0, j1, s0, s1)
+        return (self.X, self.q_lazy, self.unit_lazy, self.lazy, src, int(n_src), float(factor), self.rho_c,
+                float(limit), self.weights, self._clipped, self._deposited, self.mult, self.inv_bp, self.c,
+                idle, self._idle_val, self._sfx, j0, j1, s0, s1)
+
+    def swept(self) -> np.ndarray:
+        """After the sweep of :meth:`sweep_plan`: the state is theta_ad (returned, (n_nodes, n_columns))."""
         self.lazy = False
         self.col_max = self._sfx[0]
         return self.X

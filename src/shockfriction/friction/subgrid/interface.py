@@ -76,12 +76,15 @@ import math
 import numpy as np
 
 from shockfriction.errors import SimulationError
-from shockfriction.friction.subgrid.column import ThermalColumns, column_sums
+from numba import get_num_threads
+
+from shockfriction.friction.subgrid.column import ThermalColumns, column_sums, sweep_columns
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
                                                            book_step, first_nonfinite, first_nonzero,
                                                            solve_thermoelastic,
                                                            step_inputs)
-from shockfriction.friction.subgrid.thermoelastoplastic import solve_thermoelastoplastic, source_span
+from shockfriction.friction.subgrid.thermoelastoplastic import (advance_and_solve_parallel, solve_in_parallel,
+                                                                  solve_thermoelastoplastic, source_span)
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
@@ -290,32 +293,37 @@ class SubgridInterface:
         # theta_ad <= max_i (theta_i + deposit_i/(rho c)), so each node's deposit is clipped to
         # rho c (T_F - MELT_MARGIN - theta_i) in the forward sweep; the clipped energy (what melting would
         # absorb) is added to melt_energy.
+        tau = self.tau
+        q_in = self.flux_in
         if plastic:
             pend = self._pending_plastic_heat
             s0, s1, n_src = source_span(self._pending_depth)  # the columns whose pending heat may be nonzero
-            X = cols.advance(dt, pend, n_src, 1.0 / cols.rho_c, T_F - MELT_MARGIN, self._pending_flags, (s0, s1))
-            self.melt_energy += cols._clipped
+            sweep = cols.sweep_plan(dt, pend, n_src, 1.0 / cols.rho_c, T_F - MELT_MARGIN, self._pending_flags,
+                                    (s0, s1))
+            solve = (cols.theta_unit, cols.weights, self.eps_p, self._hard, self._hard_blk, F_N,
+                     np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T, self.f, self.scg, dt,
+                     self.xtol, self.max_iter, self._theta_s, tau, self._v_half, self.slip_local, self.slip_plastic,
+                     q_in, self._deps, self.iterations, self._status, self._depth, self.beta_Q * SQRT3,
+                     self._pending_plastic_heat, self._pending_depth, self.plastic_work, self.lag_temperature,
+                     cols.rho_c, self._pending_flags, self._pending_sum, self._use_front)
+            if solve_in_parallel(self.n_columns):  # the sweep and the solve in one parallel region, the same bytes
+                advance_and_solve_parallel(sweep, *solve, min(get_num_threads() * 4, self.n_columns))
+                X = cols.swept()
+            else:
+                sweep_columns(*sweep)
+                X = cols.swept()
+                solve_thermoelastoplastic(X, cols._sfx, *solve)
+            self.melt_energy += cols._clipped  # the sweep's melt guard
             deposited = cols._deposited  # J/m^2 put in this step
         else:
             X = cols.advance(dt)
         unit = cols.theta_unit
-        tau = self.tau
-        q_in = self.flux_in
         if self.model == "thermoelastic":
             solve_thermoelastic(X[0], unit[0], F_N, np.ascontiguousarray(vf),
                                 np.ascontiguousarray(vp), k, tau_cap, self.beta_T, self.f, self.scg, self.xtol,
                                 self.max_iter, self._theta_s, tau, self._v_half, self.slip_local, q_in,
                                 self.iterations, self._status)
             self.slip_plastic[:] = 0.0
-        else:
-            solve_thermoelastoplastic(X, cols._sfx, unit, cols.weights, self.eps_p, self._hard, self._hard_blk, F_N,
-                                      np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T,
-                                      self.f, self.scg, dt, self.xtol, self.max_iter, self._theta_s, tau,
-                                      self._v_half, self.slip_local, self.slip_plastic, q_in, self._deps,
-                                      self.iterations, self._status, self._depth, self.beta_Q * SQRT3,
-                                      self._pending_plastic_heat, self._pending_depth, self.plastic_work,
-                                      self.lag_temperature, cols.rho_c, self._pending_flags, self._pending_sum,
-                                      self._use_front)
         self._check(when)
         self._check_finite(when, plastic)
         cols.set_flux(q_in)  # theta = theta_ad + q_in theta_unit (eq. 7.70), applied by the next sweep

@@ -39,6 +39,7 @@ import math
 import numpy as np
 from numba import get_num_threads, njit, prange
 
+from shockfriction.friction.subgrid.column import sweep_block
 from shockfriction.friction.subgrid.rootfind import B, BRENT_STATE, C, FB, brent_feed, brent_next, brent_start
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, OK, SQRT3,
                                                            corrected_slip, friction_stress)
@@ -506,7 +507,7 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     nn = theta_unit.shape[0]
     ncol = theta_ad.shape[1]
     threads = get_num_threads()  # here, in Python: numba's count inside a kernel would stop its caching
-    if threads > 1 and ncol >= PARALLEL_MIN_COLUMNS:
+    if solve_in_parallel(ncol):
         _solve_columns_parallel(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev,
                                 k, tau_cap, beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local,
                                 plastic_rate, q_in, deps, iters, status, depth, heat_factor, pending, pending_depth,
@@ -521,6 +522,39 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
 
 #: columns from which :func:`solve_thermoelastoplastic` runs in parallel when numba has more than one thread
 PARALLEL_MIN_COLUMNS = 32
+
+
+def solve_in_parallel(ncol: int) -> bool:
+    """Whether :func:`solve_thermoelastoplastic` (and :func:`advance_and_solve_parallel`) run in parallel blocks:
+    more than one numba thread and at least :data:`PARALLEL_MIN_COLUMNS` columns."""
+    return get_num_threads() > 1 and ncol >= PARALLEL_MIN_COLUMNS
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
+                               beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in,
+                               deps, iters, status, depth, heat_factor, pending, pending_depth, plastic_work, lag,
+                               rho_c, flags, pending_sum, use_front, nblocks):
+    """The columns' thermal sweep (``sweep``: the arguments of
+    :func:`~shockfriction.friction.subgrid.column.sweep_columns` after
+    :func:`~shockfriction.friction.subgrid.column.sweep_span`, a tuple) and their interface solve
+    (:func:`solve_thermoelastoplastic`'s arguments) in one parallel region: each block of consecutive columns is
+    swept, then solved, by one thread.  Every column's arithmetic is its own, so the bytes are those of the
+    sweep of all columns followed by the serial solve (one region per step instead of a serial sweep and a
+    parallel solve: docs/theory/threads.md)."""
+    (X, q, unit_lazy, lazy, src, n_src, factor, rho_c_s, limit, weights_s, clipped, deposited, mult, inv_bp, c, idle,
+     idle_val, sfx, j0, j1, s0, s1) = sweep
+    nn = theta_unit.shape[0]
+    ncol = X.shape[1]
+    for b in prange(nblocks):
+        a = (b * ncol // nblocks) // 8 * 8  # whole cache lines of a row per block (8 columns of 8 bytes)
+        e = ncol if b == nblocks - 1 else ((b + 1) * ncol // nblocks) // 8 * 8
+        sweep_block(X, q, unit_lazy, lazy, src, n_src, factor, rho_c_s, limit, weights_s, clipped, deposited, mult,
+                    inv_bp, c, idle, idle_val, sfx, j0, j1, s0, s1, a, e)
+        _solve_columns(X, sfx, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap, beta_T,
+                       f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status,
+                       depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
+                       use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)), np.empty(nn), a, e)
 
 
 @njit(cache=True, parallel=True, error_model="numpy")

@@ -1,0 +1,60 @@
+"""The chapter 8 columns give the same bytes on any thread count: on more than one numba thread their thermal sweep
+and interface solve run in one parallel region over blocks of consecutive columns
+(``advance_and_solve_parallel``, blocks of whole cache lines), on one thread the serial sweep and solve.  A regime
+where every branch of the step runs: plastic columns whose lagged heat the melt guard clips (melt_energy > 0),
+sticking columns (no slip) and columns out of contact (idle, inside the swept span), 77 columns (blocks of uneven
+sizes, some empty at 16 blocks).  Child processes with ``NUMBA_NUM_THREADS=4``: 1, 2, 3 and 4 threads."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+CHILD = r'''
+import hashlib, json, sys
+import numba
+import numpy as np
+from shockfriction.friction.subgrid.interface import SubgridInterface
+from shockfriction.friction.subgrid.thermoelastoplastic import solve_in_parallel
+from shockfriction.materials.library import get_material
+
+SCRATCH = {"_out", "_idle_val", "_rise"}  # np.empty work arrays of ThermalColumns, not state
+out = {}
+for threads in (1, 2, 3, 4):
+    numba.set_num_threads(threads)
+    n = 77
+    sg = SubgridInterface(n, get_material("Al5083-H111"), get_material("AISI321"), thickness=20e-6, n_cells=120,
+                          model="thermoelastoplastic", mu0=0.5, f=0.7)
+    v = np.linspace(100.0, 1500.0, n)
+    v[::9] = 0.0
+    sig = np.full(n, 10e9)
+    sig[5::11] = 0.0
+    taus = []
+    for _ in range(300):
+        tau, _ = sg.step(sig, v, v, np.inf, np.inf, 1.0, 1e-9)
+        taus.append(tau)
+    h = hashlib.sha256(np.array(taus).tobytes())
+    for obj in (sg, sg.columns):
+        for k, a in sorted(vars(obj).items()):
+            if isinstance(a, np.ndarray) and k not in SCRATCH:
+                h.update(k.encode())
+                h.update(np.ascontiguousarray(a).tobytes())
+    out[threads] = {"hash": h.hexdigest(), "parallel": solve_in_parallel(n),
+                    "clipped": int((sg.melt_energy > 0).sum()), "theta_max": float(sg.theta_interface.max())}
+print(json.dumps(out))
+'''
+
+
+def test_columns_give_the_same_bytes_on_every_thread_count():
+    env = dict(os.environ, NUMBA_NUM_THREADS="4")
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "src")] + [p for p in [env.get("PYTHONPATH")] if p])
+    run = subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, timeout=900)
+    assert run.returncode == 0, run.stderr[-3000:]
+    out = json.loads(run.stdout.strip().splitlines()[-1])
+    print(out)
+    assert [out[t]["parallel"] for t in ("1", "2", "3", "4")] == [False, True, True, True]
+    assert out["1"]["clipped"] > 0  # the melt guard clipped lagged heat: the sweep's source branch ran
+    assert {out[t]["hash"] for t in out} == {out["1"]["hash"]}
