@@ -500,33 +500,28 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
     ``pending`` (n_nodes, n_columns) = heat_factor tau deps with ``pending_depth``, ``pending_sum``, ``lag``
     and ``flags``); a column that fails is left as it was.
 
-    The columns are independent (every output is per column): with more than one numba thread and at least
-    ``PARALLEL_MIN_COLUMNS`` columns they are solved in parallel blocks (:func:`_solve_columns_parallel`), the
-    same bytes.
+    The columns are independent (every output is per column); this is the serial solve, after the serial sweep
+    (:func:`~shockfriction.friction.subgrid.column.sweep_columns`).  With more than one numba thread and at least
+    ``PARALLEL_MIN_COLUMNS`` columns the step runs both in one parallel region instead
+    (:func:`advance_and_solve_parallel`), the same bytes.
     """
     nn = theta_unit.shape[0]
     ncol = theta_ad.shape[1]
-    threads = get_num_threads()  # here, in Python: numba's count inside a kernel would stop its caching
-    if solve_in_parallel(ncol):
-        _solve_columns_parallel(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev,
-                                k, tau_cap, beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local,
-                                plastic_rate, q_in, deps, iters, status, depth, heat_factor, pending, pending_depth,
-                                plastic_work, lag, rho_c, flags, pending_sum, bool(use_front),
-                                min(threads * 4, ncol))
-        return
     _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap,
                    beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters,
                    status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
                    bool(use_front), np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)), np.empty(nn), 0, ncol)
 
 
-#: columns from which :func:`solve_thermoelastoplastic` runs in parallel when numba has more than one thread
+#: columns from which the step's sweep and solve run in parallel (:func:`advance_and_solve_parallel`) when numba has
+#: more than one thread
 PARALLEL_MIN_COLUMNS = 32
 
 
 def solve_in_parallel(ncol: int) -> bool:
-    """Whether :func:`solve_thermoelastoplastic` (and :func:`advance_and_solve_parallel`) run in parallel blocks:
-    more than one numba thread and at least :data:`PARALLEL_MIN_COLUMNS` columns."""
+    """Whether the step runs :func:`advance_and_solve_parallel` (else the serial sweep and
+    :func:`solve_thermoelastoplastic`): more than one numba thread and at least :data:`PARALLEL_MIN_COLUMNS`
+    columns (the count is read here, in Python: numba's count inside a kernel would stop its caching)."""
     return get_num_threads() > 1 and ncol >= PARALLEL_MIN_COLUMNS
 
 
@@ -555,22 +550,6 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
                        f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status,
                        depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
                        use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)), np.empty(nn), a, e)
-
-
-@njit(cache=True, parallel=True, error_model="numpy")
-def _solve_columns_parallel(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k,
-                            tau_cap, beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate,
-                            q_in, deps, iters, status, depth, heat_factor, pending, pending_depth, plastic_work, lag,
-                            rho_c, flags, pending_sum, use_front, nblocks):
-    """:func:`_solve_columns` over ``nblocks`` blocks of consecutive columns in parallel, each with its scratch."""
-    nn = theta_unit.shape[0]
-    ncol = theta_ad.shape[1]
-    for b in prange(nblocks):
-        _solve_columns(theta_ad, ad_blk, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k,
-                       tau_cap, beta_T, f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in,
-                       deps, iters, status, depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c,
-                       flags, pending_sum, use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)),
-                       np.empty(nn), b * ncol // nblocks, (b + 1) * ncol // nblocks)
 
 
 @njit(cache=True, error_model="numpy", **NO_REFCOUNT)
