@@ -76,15 +76,14 @@ import math
 import numpy as np
 
 from shockfriction.errors import SimulationError
-from numba import get_num_threads
-
 from shockfriction.friction.subgrid.column import ThermalColumns, column_sums, sweep_columns
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
                                                            book_step, first_nonfinite, first_nonzero,
                                                            solve_thermoelastic,
                                                            step_inputs)
-from shockfriction.friction.subgrid.thermoelastoplastic import (advance_and_solve_parallel, solve_in_parallel,
-                                                                  solve_thermoelastoplastic, source_span)
+from shockfriction.friction.subgrid.thermoelastoplastic import (advance_and_solve_parallel, parallel_blocks,
+                                                                  solve_in_parallel, solve_thermoelastoplastic,
+                                                                  source_span)
 from shockfriction.materials.library import Material, get_material, heat_share
 
 MODELS = ("thermoelastic", "thermoelastoplastic", "viscoplastic")
@@ -307,7 +306,7 @@ class SubgridInterface:
                      self._pending_plastic_heat, self._pending_depth, self.plastic_work, self.lag_temperature,
                      cols.rho_c, self._pending_flags, self._pending_sum, self._use_front)
             if solve_in_parallel(self.n_columns):  # the sweep and the solve in one parallel region, the same bytes
-                advance_and_solve_parallel(sweep, *solve, min(get_num_threads() * 4, self.n_columns))
+                advance_and_solve_parallel(sweep, *solve, parallel_blocks(self.n_columns))
                 X = cols.swept()
             else:
                 sweep_columns(*sweep)

@@ -518,6 +518,16 @@ def solve_thermoelastoplastic(theta_ad, ad_blk, theta_unit, weights, eps_prev, h
 PARALLEL_MIN_COLUMNS = 32
 
 
+#: columns of one 64-byte cache line of a row of the (n_nodes, n_columns) state: a block of the parallel step starts
+#: on a multiple of it, so no two threads write the same line (arbitrary block edges did: docs/theory/threads.md)
+LINE_COLUMNS = 8
+
+
+def parallel_blocks(ncol: int) -> int:
+    """Blocks of :func:`advance_and_solve_parallel`: four per thread, none narrower than a cache line of a row."""
+    return max(1, min(get_num_threads() * 4, (ncol + LINE_COLUMNS - 1) // LINE_COLUMNS))
+
+
 def solve_in_parallel(ncol: int) -> bool:
     """Whether the step runs :func:`advance_and_solve_parallel` (else the serial sweep and
     :func:`solve_thermoelastoplastic`): more than one numba thread and at least :data:`PARALLEL_MIN_COLUMNS`
@@ -534,16 +544,18 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
     :func:`~shockfriction.friction.subgrid.column.sweep_columns` after
     :func:`~shockfriction.friction.subgrid.column.sweep_span`, a tuple) and their interface solve
     (:func:`solve_thermoelastoplastic`'s arguments) in one parallel region: each block of consecutive columns is
-    swept, then solved, by one thread.  Every column's arithmetic is its own, so the bytes are those of the
+    swept, then solved, by one thread (``nblocks`` blocks of whole cache lines, :func:`parallel_blocks`).  Every
+    column's arithmetic is its own, so the bytes are those of the
     sweep of all columns followed by the serial solve (one region per step instead of a serial sweep and a
     parallel solve: docs/theory/threads.md)."""
     (X, q, unit_lazy, lazy, src, n_src, factor, rho_c_s, limit, weights_s, clipped, deposited, mult, inv_bp, c, idle,
      idle_val, sfx, j0, j1, s0, s1) = sweep
     nn = theta_unit.shape[0]
     ncol = X.shape[1]
+    groups = (ncol + LINE_COLUMNS - 1) // LINE_COLUMNS  # whole cache lines of a row, shared out evenly
     for b in prange(nblocks):
-        a = (b * ncol // nblocks) // 8 * 8  # whole cache lines of a row per block (8 columns of 8 bytes)
-        e = ncol if b == nblocks - 1 else ((b + 1) * ncol // nblocks) // 8 * 8
+        a = min(b * groups // nblocks * LINE_COLUMNS, ncol)
+        e = min((b + 1) * groups // nblocks * LINE_COLUMNS, ncol)
         sweep_block(X, q, unit_lazy, lazy, src, n_src, factor, rho_c_s, limit, weights_s, clipped, deposited, mult,
                     inv_bp, c, idle, idle_val, sfx, j0, j1, s0, s1, a, e)
         _solve_columns(X, sfx, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap, beta_T,
