@@ -61,8 +61,9 @@ COUPLED_VISCOPLASTIC = {"far_end": "held"}
 # an aluminium alloy is 0.28 mm at 100 us): the answer then does not depend on the thickness
 EXCESS_DEPTH = 1e-3
 EXCESS_DEPTH_RATIO = 1.1
-#: the depth must reach THERMAL_REACH sqrt(alpha t_end): the surface heat's rise there is erfc(THERMAL_REACH/2) = 0.5 %
-#: of the surface's, so the insulated end returns a negligible part of it (slide_lines[k].friction.depth)
+#: the depth must reach THERMAL_REACH sqrt(alpha t_end): the rise there is at most erfc(2) = 0.5 % of the surface's
+#: (0.17 % under a constant flux), and the insulated end's image adds < 1e-8 of the surface rise
+#: (docs/theory/viscoplastic.md, "Thermal far field"; slide_lines[k].friction.depth)
 THERMAL_REACH = 4.0
 CLOSURES = ("excess", "shear", "held")
 
