@@ -519,7 +519,7 @@ PARALLEL_MIN_COLUMNS = 32
 
 
 #: columns of one 64-byte cache line of a row of the (n_nodes, n_columns) state: a block of the parallel step starts
-#: on a multiple of it, so no two threads write the same line (arbitrary block edges did: docs/theory/threads.md)
+#: on a multiple of it, so no two threads write the same line (arbitrary block edges would: docs/theory/threads.md)
 LINE_COLUMNS = 8
 
 
