@@ -541,8 +541,9 @@ class ThermalColumns:
     def sweep_plan(self, dt: float, src: np.ndarray | None = None, n_src: int = 0, factor: float = 1.0,
                    limit: float = math.inf, src_flags: np.ndarray | None = None,
                    src_span: tuple[int, int] | None = None) -> tuple:
-        """The arguments of :func:`sweep_columns` for :meth:`advance` (its keywords), spans resolved by
-        :func:`sweep_span`; after the sweep (here or in a caller's fused kernel) call :meth:`swept`."""
+        """The arguments of :func:`sweep_columns` for :meth:`advance` (its keywords; the kernel that takes them
+        resolves the spans by :func:`sweep_span`); after the sweep (here or in a caller's fused kernel) call
+        :meth:`swept`."""
         self.prepare(dt)
         if src is None:
             src, n_src = self._no_src, 0
@@ -551,7 +552,6 @@ class ThermalColumns:
         else:
             j0, j1, idle = self._span(src_flags, (0, self.n_columns) if src_span is None else src_span)
         s0, s1 = src_span if src_span is not None else (j0, j1)
-        j0, j1, s0, s1 = sweep_span(self.n_columns, j0, j1, s0, s1)
         return (self.X, self.q_lazy, self.unit_lazy, self.lazy, src, int(n_src), float(factor), self.rho_c,
                 float(limit), self.weights, self._clipped, self._deposited, self.mult, self.inv_bp, self.c,
                 idle, self._idle_val, self._sfx, j0, j1, s0, s1)

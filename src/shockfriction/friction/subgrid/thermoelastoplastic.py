@@ -39,7 +39,7 @@ import math
 import numpy as np
 from numba import get_num_threads, njit, prange
 
-from shockfriction.friction.subgrid.column import sweep_block
+from shockfriction.friction.subgrid.column import sweep_block, sweep_span
 from shockfriction.friction.subgrid.rootfind import B, BRENT_STATE, C, FB, brent_feed, brent_next, brent_start
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, OK, SQRT3,
                                                            corrected_slip, friction_stress)
@@ -541,8 +541,8 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
                                deps, iters, status, depth, heat_factor, pending, pending_depth, plastic_work, lag,
                                rho_c, flags, pending_sum, use_front, nblocks):
     """The columns' thermal sweep (``sweep``: the arguments of
-    :func:`~shockfriction.friction.subgrid.column.sweep_columns` after
-    :func:`~shockfriction.friction.subgrid.column.sweep_span`, a tuple) and their interface solve
+    :func:`~shockfriction.friction.subgrid.column.sweep_columns`, a tuple, its spans resolved here as there by
+    :func:`~shockfriction.friction.subgrid.column.sweep_span`) and their interface solve
     (:func:`solve_thermoelastoplastic`'s arguments) in one parallel region: each block of consecutive columns is
     swept, then solved, by one thread (``nblocks`` blocks of whole cache lines, :func:`parallel_blocks`).  Every
     column's arithmetic is its own, so the bytes are those of the
@@ -552,6 +552,7 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
      idle_val, sfx, j0, j1, s0, s1) = sweep
     nn = theta_unit.shape[0]
     ncol = X.shape[1]
+    j0, j1, s0, s1 = sweep_span(ncol, j0, j1, s0, s1)
     groups = (ncol + LINE_COLUMNS - 1) // LINE_COLUMNS  # whole cache lines of a row, shared out evenly
     for b in prange(nblocks):
         a = min(b * groups // nblocks * LINE_COLUMNS, ncol)
