@@ -2,8 +2,9 @@
 and interface solve run in one parallel region over blocks of consecutive columns
 (``advance_and_solve_parallel``, blocks of whole cache lines), on one thread the serial sweep and solve.  A regime
 where every branch of the step runs: plastic columns whose lagged heat the melt guard clips (melt_energy > 0),
-sticking columns (no slip) and columns out of contact (idle, inside the swept span), 77 columns (blocks of uneven
-sizes, some empty at 16 blocks).  Child processes with ``NUMBA_NUM_THREADS=4``: 1, 2, 3 and 4 threads."""
+sticking columns (no slip) and columns out of contact (idle, inside the swept span), 77 columns; and a load on the
+first 20 columns only (as early in the cone shot: the blocks of equal work, ``balanced_blocks``, crowd there and the
+last blocks have no swept column).  Child processes with ``NUMBA_NUM_THREADS=4``: 1, 2, 3 and 4 threads."""
 
 import json
 import os
@@ -23,7 +24,7 @@ from shockfriction.materials.library import get_material
 
 SCRATCH = {"_out", "_idle_val", "_rise"}  # np.empty work arrays of ThermalColumns, not state
 out = {}
-for threads in (1, 2, 3, 4):
+for threads, front in [(t, fr) for fr in (False, True) for t in (1, 2, 3, 4)]:
     numba.set_num_threads(threads)
     n = 77
     sg = SubgridInterface(n, get_material("Al5083-H111"), get_material("AISI321"), thickness=20e-6, n_cells=120,
@@ -32,8 +33,11 @@ for threads in (1, 2, 3, 4):
     v[::9] = 0.0
     sig = np.full(n, 10e9)
     sig[5::11] = 0.0
+    if front:
+        sig[20:] = 0.0
+        v[20:] = 0.0
     taus = []
-    for _ in range(300):
+    for _ in range(300 if not front else 100):
         tau, _ = sg.step(sig, v, v, np.inf, np.inf, 1.0, 1e-9)
         taus.append(tau)
     h = hashlib.sha256(np.array(taus).tobytes())
@@ -42,7 +46,7 @@ for threads in (1, 2, 3, 4):
             if isinstance(a, np.ndarray) and k not in SCRATCH:
                 h.update(k.encode())
                 h.update(np.ascontiguousarray(a).tobytes())
-    out[threads] = {"hash": h.hexdigest(), "parallel": solve_in_parallel(n),
+    out[f"{threads}{'f' if front else ''}"] = {"hash": h.hexdigest(), "parallel": solve_in_parallel(n),
                     "clipped": int((sg.melt_energy > 0).sum()), "theta_max": float(sg.theta_interface.max())}
 print(json.dumps(out))
 '''
@@ -57,4 +61,29 @@ def test_columns_give_the_same_bytes_on_every_thread_count():
     print(out)
     assert [out[t]["parallel"] for t in ("1", "2", "3", "4")] == [False, True, True, True]
     assert out["1"]["clipped"] > 0  # the melt guard clipped lagged heat: the sweep's source branch ran
-    assert {out[t]["hash"] for t in out} == {out["1"]["hash"]}
+    assert {out[t]["hash"] for t in ("1", "2", "3", "4")} == {out["1"]["hash"]}
+    assert {out[t]["hash"] for t in ("1f", "2f", "3f", "4f")} == {out["1f"]["hash"]}
+
+
+def test_balanced_blocks_share_the_work_on_whole_cache_lines():
+    """balanced_blocks: bounds on whole lines of LINE_COLUMNS columns (and the last column), every column in one
+    block, each block's work (BUSY_WEIGHT a busy column, 1 an idle one) within one line's work of an equal share."""
+    import numpy as np
+
+    from shockfriction.friction.subgrid.thermoelastoplastic import BUSY_WEIGHT, LINE_COLUMNS, balanced_blocks
+
+    rng = np.random.default_rng(7)
+    for ncol, nblocks, j0, j1, pressed in [(306, 2, 0, 87, 108), (306, 16, 0, 231, 250), (77, 4, 0, 0, 20),
+                                          (77, 3, 10, 40, 0), (9, 4, 0, 9, 9), (306, 1, 0, 306, 306)]:
+        F_N = np.zeros(ncol)
+        F_N[:pressed] = rng.uniform(0.5, 2.0, pressed)
+        bounds = np.empty(nblocks + 1, dtype=np.int64)
+        balanced_blocks(F_N, j0, j1, bounds)
+        assert bounds[0] == 0 and bounds[-1] == ncol and np.all(np.diff(bounds) >= 0)
+        assert all(b % LINE_COLUMNS == 0 or b == ncol for b in bounds)
+        busy = (F_N > 0.0) | ((np.arange(ncol) >= j0) & (np.arange(ncol) < j1))
+        w = np.where(busy, BUSY_WEIGHT, 1)
+        share = w.sum() / nblocks
+        work = [w[a:e].sum() for a, e in zip(bounds[:-1], bounds[1:])]
+        line = BUSY_WEIGHT * LINE_COLUMNS
+        assert max(work) <= share + line and (nblocks * LINE_COLUMNS > ncol or min(work) >= share - line), work

@@ -214,43 +214,44 @@ def sweep_block(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, cli
     for j in range(a, e):
         deposited[j] = 0.0
         clipped[j] = 0.0
-    qa, qs, qb = q[ja:sa], q[sa:sb], q[sb:jb]
-    # forward elimination (eq. A.6-A.8): the source rows, then the rest; the columns without a source
-    # take th + 0 factor = th
-    ns = min(n_src, nn) if sb > sa else 0
-    for i in range(max(ns, 1)):
-        cur = X[i]
-        prev = X[i - 1 if i > 0 else 0]
-        u = unit[i]
-        m = mult[i]
-        first = i == 0
-        if i < ns:
-            _source_row(cur[sa:sb], prev[sa:sb], qs, src[i][sa:sb], clipped[sa:sb], deposited[sa:sb], u, m,
-                        weights[i], rho_c, limit, factor, lazy, first)
-            _plain_row(cur[ja:sa], prev[ja:sa], qa, u, m, lazy, first)
-            _plain_row(cur[sb:jb], prev[sb:jb], qb, u, m, lazy, first)
-        else:
-            _plain_row(cur[ja:jb], prev[ja:jb], q[ja:jb], u, m, lazy, first)
-    qj = q[ja:jb]
-    for i in range(max(ns, 1), nn):
-        _plain_row(X[i][ja:jb], X[i - 1][ja:jb], qj, unit[i], mult[i], lazy, False)
-    # back substitution (eq. A.9-A.12) in blocks of 8 rows, then the block's suffix maxima
     nb = sfx.shape[0]
-    for b in range(nb - 1, -1, -1):
-        i0 = 8 * b
-        i1 = min(i0 + 8, nn)
-        for i in range(i1 - 1, i0 - 1, -1):
+    if jb > ja:  # a block with no swept column skips the rows (nothing of it is swept: the same bytes)
+        qa, qs, qb = q[ja:sa], q[sa:sb], q[sb:jb]
+        # forward elimination (eq. A.6-A.8): the source rows, then the rest; the columns without a source
+        # take th + 0 factor = th
+        ns = min(n_src, nn) if sb > sa else 0
+        for i in range(max(ns, 1)):
             cur = X[i]
-            _back_row(cur[ja:jb], X[min(i + 1, nn - 1)][ja:jb], c[i], inv_bp[i], i == nn - 1)
-            for k in range(idle.shape[0]):
-                j = idle[k]
-                if a <= j < e:
-                    cur[j] = idle_val[k]
-        top = sfx[b][ja:jb]
-        first = X[i1 - 1] if b == nb - 1 else sfx[b + 1]
-        top[:] = first[ja:jb]
-        for i in range(i0, i1):
-            _max_row(top, X[i][ja:jb])
+            prev = X[i - 1 if i > 0 else 0]
+            u = unit[i]
+            m = mult[i]
+            first = i == 0
+            if i < ns:
+                _source_row(cur[sa:sb], prev[sa:sb], qs, src[i][sa:sb], clipped[sa:sb], deposited[sa:sb], u, m,
+                            weights[i], rho_c, limit, factor, lazy, first)
+                _plain_row(cur[ja:sa], prev[ja:sa], qa, u, m, lazy, first)
+                _plain_row(cur[sb:jb], prev[sb:jb], qb, u, m, lazy, first)
+            else:
+                _plain_row(cur[ja:jb], prev[ja:jb], q[ja:jb], u, m, lazy, first)
+        qj = q[ja:jb]
+        for i in range(max(ns, 1), nn):
+            _plain_row(X[i][ja:jb], X[i - 1][ja:jb], qj, unit[i], mult[i], lazy, False)
+        # back substitution (eq. A.9-A.12) in blocks of 8 rows, then the block's suffix maxima
+        for b in range(nb - 1, -1, -1):
+            i0 = 8 * b
+            i1 = min(i0 + 8, nn)
+            for i in range(i1 - 1, i0 - 1, -1):
+                cur = X[i]
+                _back_row(cur[ja:jb], X[min(i + 1, nn - 1)][ja:jb], c[i], inv_bp[i], i == nn - 1)
+                for k in range(idle.shape[0]):
+                    j = idle[k]
+                    if a <= j < e:
+                        cur[j] = idle_val[k]
+            top = sfx[b][ja:jb]
+            first = X[i1 - 1] if b == nb - 1 else sfx[b + 1]
+            top[:] = first[ja:jb]
+            for i in range(i0, i1):
+                _max_row(top, X[i][ja:jb])
     # the columns outside [j0, j1): idle, not swept (uniform, so every suffix maximum is theta(0))
     for b in range(nb):
         top = sfx[b]

@@ -522,10 +522,15 @@ PARALLEL_MIN_COLUMNS = 32
 #: on a multiple of it, so no two threads write the same line (arbitrary block edges would: docs/theory/threads.md)
 LINE_COLUMNS = 8
 
+#: the weight of a busy column (swept or pressed) in the parallel step's blocks, against 1 for an idle column: on the
+#: cone shot a cache line of busy columns took ~40 us, of idle ones ~6 us (docs/theory/threads.md)
+BUSY_WEIGHT = 6
+
 
 def parallel_blocks(ncol: int) -> int:
-    """Blocks of :func:`advance_and_solve_parallel`: four per thread, none narrower than a cache line of a row."""
-    return max(1, min(get_num_threads() * 4, (ncol + LINE_COLUMNS - 1) // LINE_COLUMNS))
+    """Blocks of :func:`advance_and_solve_parallel`: one per thread (of equal work, :func:`balanced_blocks`), none
+    narrower than a cache line of a row."""
+    return max(1, min(get_num_threads(), (ncol + LINE_COLUMNS - 1) // LINE_COLUMNS))
 
 
 def solve_in_parallel(ncol: int) -> bool:
@@ -544,7 +549,8 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
     :func:`~shockfriction.friction.subgrid.column.sweep_columns`, a tuple, its spans resolved here as there by
     :func:`~shockfriction.friction.subgrid.column.sweep_span`) and their interface solve
     (:func:`solve_thermoelastoplastic`'s arguments) in one parallel region: each block of consecutive columns is
-    swept, then solved, by one thread (``nblocks`` blocks of whole cache lines, :func:`parallel_blocks`).  Every
+    swept, then solved, by one thread (``nblocks`` blocks of whole cache lines and equal work,
+    :func:`balanced_blocks`: the busy columns are a few of them, early in a shot the first ones).  Every
     column's arithmetic is its own, so the bytes are those of the
     sweep of all columns followed by the serial solve (one region per step instead of a serial sweep and a
     parallel solve: docs/theory/threads.md)."""
@@ -553,16 +559,40 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
     nn = theta_unit.shape[0]
     ncol = X.shape[1]
     j0, j1, s0, s1 = sweep_span(ncol, j0, j1, s0, s1)
-    groups = (ncol + LINE_COLUMNS - 1) // LINE_COLUMNS  # whole cache lines of a row, shared out evenly
+    bounds = np.empty(nblocks + 1, dtype=np.int64)
+    balanced_blocks(F_N, j0, j1, bounds)
     for b in prange(nblocks):
-        a = min(b * groups // nblocks * LINE_COLUMNS, ncol)
-        e = min((b + 1) * groups // nblocks * LINE_COLUMNS, ncol)
+        a = bounds[b]
+        e = bounds[b + 1]
         sweep_block(X, q, unit_lazy, lazy, src, n_src, factor, rho_c_s, limit, weights_s, clipped, deposited, mult,
                     inv_bp, c, idle, idle_val, sfx, j0, j1, s0, s1, a, e)
         _solve_columns(X, sfx, theta_unit, weights, eps_prev, hard, hard_blk, F_N, v_free, v_prev, k, tau_cap, beta_T,
                        f, p, dt, xtol, max_iter, theta_s, tau, v_half, v_local, plastic_rate, q_in, deps, iters, status,
                        depth, heat_factor, pending, pending_depth, plastic_work, lag, rho_c, flags, pending_sum,
                        use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)), np.empty(nn), a, e)
+
+
+@njit(cache=True)
+def balanced_blocks(F_N, j0, j1, bounds):
+    """Bounds of len(bounds) - 1 blocks of whole cache lines (LINE_COLUMNS columns of a row) with equal work:
+    a busy column (swept, j0 <= j < j1, or pressed, F_N > 0) weighs BUSY_WEIGHT, an idle one 1."""
+    ncol = F_N.shape[0]
+    nblocks = bounds.shape[0] - 1
+    total = 0
+    for j in range(ncol):
+        total += BUSY_WEIGHT if (F_N[j] > 0.0 or j0 <= j < j1) else 1
+    bounds[0] = 0
+    b = 1
+    acc = 0
+    for j in range(ncol):
+        acc += BUSY_WEIGHT if (F_N[j] > 0.0 or j0 <= j < j1) else 1
+        if (j + 1) % LINE_COLUMNS == 0 or j == ncol - 1:
+            while b < nblocks and acc * nblocks >= b * total:
+                bounds[b] = j + 1
+                b += 1
+    while b <= nblocks:
+        bounds[b] = ncol
+        b += 1
 
 
 @njit(cache=True, error_model="numpy", **NO_REFCOUNT)
