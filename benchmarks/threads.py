@@ -13,7 +13,9 @@ interleaved (1, 2, 4, ..., 1, 2, 4, ...) so that a change of the machine's load 
 of examples' cone_in_cylinder (100 um cells, examples/cone_shot.py, Coulomb and thermoelastoplastic
 sub-grid columns) to ``--cone-end-time`` microseconds with ``run_simulation``, each count in turn.  The thread
 governor is off (the kernels' own scaling) unless ``--governor``.  For each case it prints the median rate (or
-wall time), the speed-up over one thread, the parallel efficiency (speed-up / threads) and the serial fraction
+wall time), the speed-up over one thread (of the medians), the parallel efficiency (speed-up / threads), the
+*paired* speed-up (the median over repeats of each repeat's ratio to its own one-thread timing: the counts of a
+repeat run back to back, so a change of this shared machine's speed between repeats cancels) and the serial fraction
 ``s`` of an Amdahl fit, speed-up(p) = 1 / (s + (1 - s) / p) (least squares on 1 / speed-up).  Default thread counts:
 1, 2, 4, ... up to the cores this process may use, and that count.
 
@@ -155,16 +157,26 @@ def amdahl_serial_fraction(threads: list[int], speedups: list[float]) -> float:
     return num / den if den else float("nan")
 
 
+def paired_speedup(values: dict, t: int, base: int, higher_is_faster: bool) -> float:
+    """The median over rounds of the speed-up of ``t`` threads against ``base`` threads in the same round (the
+    counts run one after the other in each round, so a change of the machine's speed between rounds cancels)."""
+    pairs = [(a / b if higher_is_faster else b / a) for a, b in zip(values[t], values[base])]
+    return statistics.median(pairs)
+
+
 def _table(title: str, threads: list[int], values: dict, unit: str, higher_is_faster: bool) -> None:
-    base = statistics.median(values[1]) if 1 in values else statistics.median(values[threads[0]])
+    one = 1 if 1 in values else threads[0]
+    base = statistics.median(values[one])
     print(title)
-    print(f"  {'threads':>7}  {unit:>14}  {'speed-up':>8}  {'efficiency':>10}  (min-max)")
+    print(f"  {'threads':>7}  {unit:>14}  {'speed-up':>8}  {'efficiency':>10}  {'paired':>6}  (min-max)")
     sps = []
     for t in threads:
         med = statistics.median(values[t])
         sp = med / base if higher_is_faster else base / med
         sps.append(sp)
-        print(f"  {t:7d}  {med:14.4g}  {sp:8.2f}  {sp / t:10.2f}  ({min(values[t]):.4g}-{max(values[t]):.4g})")
+        paired = paired_speedup(values, t, one, higher_is_faster)
+        print(f"  {t:7d}  {med:14.4g}  {sp:8.2f}  {sp / t:10.2f}  {paired:6.2f}  "
+              f"({min(values[t]):.4g}-{max(values[t]):.4g})")
     print(f"  Amdahl fit: serial fraction s = {amdahl_serial_fraction(threads, sps):.3f}", flush=True)
 
 
