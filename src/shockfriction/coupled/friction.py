@@ -311,9 +311,10 @@ def build_subgrid_friction(sl, line, bodies: dict, where: str, trace: bool = Fal
         if depth < reach:
             given = f"{where}.friction.depth = {depth:g} m" if fr.depth is not None else \
                 f"{where}.friction.depth (omitted: {depth:g} m)"
-            raise DeckError(f"{given}: expected at least 4 sqrt(alpha t_end) = {reach:.3g} m for {mat_name} "
-                            f"(alpha = {material.diffusivity:.3g} m^2/s) over time.end = {float(t_end):g} s, or the "
-                            "frictional heat reaches the column's insulated end and stays there; set a larger depth")
+            raise DeckError(f"{given}: expected at least {THERMAL_REACH:g} sqrt(alpha t_end) = {reach:.3g} m for "
+                            f"{mat_name} (alpha = {material.diffusivity:.3g} m^2/s) over time.end = "
+                            f"{float(t_end):g} s, or the frictional heat reaches the column's insulated end and stays "
+                            "there; set a larger depth")
     n = line.slave.size
     nodes = fr.profile_nodes
     if nodes is not None:

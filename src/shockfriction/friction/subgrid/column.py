@@ -170,7 +170,7 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
     Each source value p (J/m^3 or W/m^3 by ``factor``) is first clipped to rho_c (limit - theta) >= 0
     (melt guard, ``limit = inf``: none); ``clipped[j]`` receives the clipped energy sum_i w_i (p - kept),
     ``src`` keeps the clipped value and ``deposited[j]`` += sum_i w_i p_kept.  The columns listed in ``idle``
-    are uniform and source-free: they keep their value (``idle_val`` is scratch).  Only the columns
+    (ascending) are uniform and source-free: they keep their value (``idle_val`` is scratch).  Only the columns
     j0 <= j < j1 are swept (``j1 < 0``: all); every column outside is idle too (not listed in ``idle``).
     ``sfx[b, j]`` receives the suffix maximum max_{i >= 8b} theta_ad[i, j] (``sfx[0]``: the column maximum).
     The factored Thomas sweeps (eq. A.6-A.12) run row by row, each row's update vectorised across the columns.
@@ -207,10 +207,11 @@ def sweep_block(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, cli
     sa = min(max(s0, ja), jb)
     sb = max(min(s1, jb), sa)
     u0 = unit[0]
-    for k in range(idle.shape[0]):
+    k0 = np.searchsorted(idle, a)  # this block's idle columns (``idle`` ascending)
+    k1 = np.searchsorted(idle, e)
+    for k in range(k0, k1):
         j = idle[k]
-        if a <= j < e:
-            idle_val[k] = X[0, j] + q[j] * u0 if lazy else X[0, j]
+        idle_val[k] = X[0, j] + q[j] * u0 if lazy else X[0, j]
     for j in range(a, e):
         deposited[j] = 0.0
         clipped[j] = 0.0
@@ -243,10 +244,8 @@ def sweep_block(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, cli
             for i in range(i1 - 1, i0 - 1, -1):
                 cur = X[i]
                 _back_row(cur[ja:jb], X[min(i + 1, nn - 1)][ja:jb], c[i], inv_bp[i], i == nn - 1)
-                for k in range(idle.shape[0]):
-                    j = idle[k]
-                    if a <= j < e:
-                        cur[j] = idle_val[k]
+                for k in range(k0, k1):
+                    cur[idle[k]] = idle_val[k]
             top = sfx[b][ja:jb]
             first = X[i1 - 1] if b == nb - 1 else sfx[b + 1]
             top[:] = first[ja:jb]

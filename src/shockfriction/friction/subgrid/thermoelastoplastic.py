@@ -572,20 +572,27 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
                        use_front, np.empty(BRENT_STATE), np.empty(nn), np.empty((4, nn)), np.empty(nn), a, e)
 
 
+@njit(cache=True, inline="always")
+def _column_weight(F_N, j, j0, j1):
+    """A column's work in :func:`balanced_blocks`: BUSY_WEIGHT when it is swept (j0 <= j < j1) or pressed
+    (F_N > 0), else 1."""
+    return BUSY_WEIGHT if (F_N[j] > 0.0 or j0 <= j < j1) else 1
+
+
 @njit(cache=True)
 def balanced_blocks(F_N, j0, j1, bounds):
-    """Bounds of len(bounds) - 1 blocks of whole cache lines (LINE_COLUMNS columns of a row) with equal work:
-    a busy column (swept, j0 <= j < j1, or pressed, F_N > 0) weighs BUSY_WEIGHT, an idle one 1."""
+    """Bounds of len(bounds) - 1 blocks of whole cache lines (LINE_COLUMNS columns of a row) with equal work
+    (:func:`_column_weight`)."""
     ncol = F_N.shape[0]
     nblocks = bounds.shape[0] - 1
     total = 0
     for j in range(ncol):
-        total += BUSY_WEIGHT if (F_N[j] > 0.0 or j0 <= j < j1) else 1
+        total += _column_weight(F_N, j, j0, j1)
     bounds[0] = 0
     b = 1
     acc = 0
     for j in range(ncol):
-        acc += BUSY_WEIGHT if (F_N[j] > 0.0 or j0 <= j < j1) else 1
+        acc += _column_weight(F_N, j, j0, j1)
         if (j + 1) % LINE_COLUMNS == 0 or j == ncol - 1:
             while b < nblocks and acc * nblocks >= b * total:
                 bounds[b] = j + 1
