@@ -47,7 +47,6 @@ import math
 import time as _time
 from typing import Callable, Protocol
 
-import numba
 import numpy as np
 
 from shockfriction import threading_policy
@@ -298,9 +297,8 @@ class Simulation:
                 s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
                 self.shear_visc, *self.shear_visc_args)
         if self.parallel:  # the same sums as the serial pass, whatever the thread count (kernels, "Sums")
-            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
-                return K.forces_parallel(*args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e, s.e_el,
-                                         s.cell_mass, want_ie, *self._partition_args(), sum_border)
+            return K.forces_parallel(*args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e, s.e_el,
+                                     s.cell_mass, want_ie, *self._partition_args(), sum_border)
         return K.cell_forces_serial(*args, self._corner, self._vcorner, s.fx, s.fy, s.e, s.e_el, s.cell_mass,
                                     want_ie)
 
@@ -373,10 +371,9 @@ class Simulation:
             q_before = en.interface_heat
             if fused:
                 _, _, bcorner, (bnodes, bptr, bcorn) = self._force_scratch[1]
-                with numba.parallel_chunksize(1):
-                    K.border_velocities_parallel(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old,
-                                                 self._vx_pre, self._vy_pre, True, bcorner, bnodes, bptr, bcorn,
-                                                 self._partition_args()[0].shape[0] - 1)
+                K.border_velocities_parallel(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old,
+                                             self._vx_pre, self._vy_pre, True, bcorner, bnodes, bptr, bcorn,
+                                             self._partition_args()[0].shape[0] - 1)
             else:
                 advance = K.advance_velocities_parallel if self.passes_parallel else K.advance_velocities
                 advance(s.vx, s.vy, s.fx, s.fy, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
@@ -464,16 +461,15 @@ class Simulation:
         record = s.cycle % self.probe_every == 0
         self._heat_in_update = True
         if self.parallel:
-            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
-                ie, wbc, ke, dtn, bad, code, qv = K.cycle_parallel(
-                    s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
-                    s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
-                    self.shear_visc, *self.shear_visc_args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e,
-                    s.e_el, s.cell_mass, record, *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
-                    self._vy_pre, s.mass_own, *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons,
-                    self._jx_bc_prev, self._jy_bc_prev, dt, self._x_half, self._y_half, s.mat, s.props, s.isentrope,
-                    s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl, self.dvmax, s.damage,
-                    *self._par_update[:2], self._sums, *self._partition_args()[:-1], *self._par_update[4:])
+            ie, wbc, ke, dtn, bad, code, qv = K.cycle_parallel(
+                s.conn, s.x, s.y, s.vx, s.vy, s.sxx, s.syy, s.sxy, s.pressure, s.q, s.rho, s.sound_speed,
+                s.shear_modulus, s.yield_stress, s.axisymmetric, self.hg, self.qedge, self.cq, self.cl,
+                self.shear_visc, *self.shear_visc_args, self._force_scratch[1][0], self._vcorner, s.fx, s.fy, s.e,
+                s.e_el, s.cell_mass, record, *self._grp, s.mass, dtv, self._vx_old, self._vy_old, self._vx_pre,
+                self._vy_pre, s.mass_own, *self._cons[1:], self._bc_nodes, self._bc_ptr, self._bc_cons,
+                self._jx_bc_prev, self._jy_bc_prev, dt, self._x_half, self._y_half, s.mat, s.props, s.isentrope,
+                s.volume, s.eps_p, s.temperature, self._dtcell, self._errcell, self.cfl, self.dvmax, s.damage,
+                *self._par_update[:2], self._sums, *self._partition_args()[:-1], *self._par_update[4:])
             self._after_fused(record, dt, dtn, bad, code, qv, ie, wbc, ke)
             return
         ie, wbc, ke, dtn, bad, code, qv = K.cycle_serial(
@@ -542,8 +538,7 @@ class Simulation:
                 self.dvmax, self._dtcell, self._errcell, self.qedge, s.damage, self._heat_in_update, self._vcorner,
                 self._vx_old, self._vy_old, s.dt_velocity)
         if self.parallel:
-            with numba.parallel_chunksize(1):  # partitions handed out one at a time (docs/theory/threads.md)
-                dtn, bad, code, qv = K.update_parallel(*args, *self._par_update)
+            dtn, bad, code, qv = K.update_parallel(*args, *self._par_update)
         else:
             args = args + self._scratch
             dtn, bad, code, qv = K.advance_serial(*args)

@@ -28,7 +28,9 @@ interfaces (docs/theory/fused-cycle.md).
   types a constant argument as a literal and compiles that case apart, so LLVM drops the dead
   axisymmetric and edge-viscosity code (and the copies its branches cost), the same arithmetic.
 * The parallel kernels (end of the module; docs/theory/threads.md): the serial kernels' blocks on
-  partitions of the mesh (hydro/partition.py), a contiguous range of cells per thread:
+  partitions of the mesh (hydro/partition.py: contiguous ranges of cells, up to four per thread), which
+  the force pass and the cell update hand out from a work queue (``jit_bits.fetch_add``: a thread takes
+  the next partition when it has finished its last, so one whose cells cost more takes fewer):
   :func:`forces_parallel` (own nodes summed in place, border nodes from their stored corners in cell
   order), :func:`nodes_parallel`, :func:`update_parallel`, in one call :func:`cycle_parallel`; and
   parallel twins of the node kernels (``*_parallel``).
@@ -63,7 +65,7 @@ from shockfriction.hydro.matprops import (
 from shockfriction.hydro.shear_viscosity import shear_viscosity_forces
 from shockfriction.hydro.plasticity import radial_return_s, rotate_deviator, shear_modulus_and_ratio, yield_stress
 from shockfriction.hydro.spall import spall_damage
-from shockfriction.jit_bits import f64_bits, f64_from_bits
+from shockfriction.jit_bits import f64_bits, f64_from_bits, fetch_add
 from shockfriction.jit_options import NO_REFCOUNT, VECTORIZE
 from shockfriction.materials.strength import I_BETA, I_G, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX, scg_shear_ratio_simd
 
@@ -1530,21 +1532,26 @@ def border_sums(fx, fy, bcorner, bnodes, bptr, bcorn, j0, j1):
 def forces_parallel(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc, scl,
                     scq, elastic_only, blocks, vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds, pnode_ptr, pnodes,
                     border, bcorner, bnodes, bptr, bcorn, iparts, sum_border=True):
-    """The force pass (:func:`cell_forces_serial`) over the partitions in parallel: partition i zeroes its own
-    nodes' forces and runs :func:`forces_of_range` on its cells (``blocks[i]`` its block scratch); then each
-    border node's force is the sum of its corners' forces from ``bcorner`` in cell order (:func:`border_sums`),
-    as the serial pass adds them: here, in a second parallel loop, with ``sum_border``, else by the caller
-    (:func:`cycle_parallel` has the node pass do it, one parallel region fewer).  Returns the internal energy at
-    t^n when ``want_ie`` (else 0), summed as the serial pass does."""
+    """The force pass (:func:`cell_forces_serial`) over the partitions in parallel, taken from a work queue (module
+    docstring): partition i zeroes its own nodes' forces and runs :func:`forces_of_range` on its cells (``blocks[i]``
+    its block scratch); then each border node's force is the sum of its corners' forces from ``bcorner`` in cell
+    order (:func:`border_sums`), as the serial pass adds them: here, in a second parallel loop, with
+    ``sum_border``, else by the caller (:func:`cycle_parallel` has the node pass do it, one parallel region fewer).
+    Returns the internal energy at t^n when ``want_ie`` (else 0), summed as the serial pass does."""
     npart = cbounds.shape[0] - 1
-    for i in prange(npart):
-        for j in range(pnode_ptr[i], pnode_ptr[i + 1]):
-            n = pnodes[j]
-            fx[n] = 0.0
-            fy[n] = 0.0
-        forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl, svisc,
-                        scl, scq, elastic_only, blocks[i], vcorner, fx, fy, e, e_el, cmass, want_ie, cbounds[i],
-                        cbounds[i + 1], border, bcorner, iparts)
+    queue = np.zeros(1, np.int64)  # the next partition to take (the work queue: module docstring)
+    for _ in prange(npart):  # a thread's first iteration takes partitions until none is left, its others none
+        while True:
+            i = fetch_add(queue, 0)
+            if i >= npart:
+                break
+            for j in range(pnode_ptr[i], pnode_ptr[i + 1]):
+                n = pnodes[j]
+                fx[n] = 0.0
+                fy[n] = 0.0
+            forces_of_range(conn, x, y, vx, vy, sxx, syy, sxy, p, q, rho, cs, shear, yld, axi, hg, qedge, cq, cl,
+                            svisc, scl, scq, elastic_only, blocks[i], vcorner, fx, fy, e, e_el, cmass, want_ie,
+                            cbounds[i], cbounds[i + 1], border, bcorner, iparts)
     if sum_border:
         nb = bnodes.shape[0]
         for i in prange(npart):  # the border nodes in as many groups as partitions
@@ -1584,18 +1591,24 @@ def update_range(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, v
 def update_parallel(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p, q, sxx, syy,
                     sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell, errcell, qedge, dmg,
                     heat_now, vcorner, vx_old, vy_old, dtv, works, mrecs, qparts, cbounds, pdt, pbad):
-    """The cell update (:func:`update_serial`) over the partitions in parallel (:func:`update_range`, partition
-    i with its scratch ``works[i]``, ``mrecs[i]``).  Returns what update_serial returns: (min stable dt, or 0 with
-    a bad cell; the first bad cell or -1; its code; the viscous heat, summed as the serial kernels do)."""
+    """The cell update (:func:`update_serial`) over the partitions in parallel, taken from a work queue (module
+    docstring) (:func:`update_range`, partition i with its scratch ``works[i]``, ``mrecs[i]``).  Returns what
+    update_serial returns: (min stable dt, or 0 with a bad cell; the first bad cell or -1; its code; the viscous
+    heat, summed as the serial kernels do)."""
     npart = cbounds.shape[0] - 1
-    for i in prange(npart):
-        dtm, bd, cd = update_range(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e, e_el, p,
-                                   q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl, dvmax, dtcell,
-                                   errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv, works[i], mrecs[i],
-                                   cbounds[i], cbounds[i + 1], qparts)
-        pdt[i] = dtm
-        pbad[i, 0] = bd
-        pbad[i, 1] = cd
+    queue = np.zeros(1, np.int64)  # the next partition to take (the work queue: module docstring)
+    for _ in prange(npart):  # a thread's first iteration takes partitions until none is left, its others none
+        while True:
+            i = fetch_add(queue, 0)
+            if i >= npart:
+                break
+            dtm, bd, cd = update_range(conn, x_half, y_half, x, y, vx, vy, mat, props, table, cmass, vol, rho, e,
+                                       e_el, p, q, sxx, syy, sxy, eps_p, temp, shear, yld, cs, axi, dt, cq, cl, cfl,
+                                       dvmax, dtcell, errcell, qedge, dmg, heat_now, vcorner, vx_old, vy_old, dtv,
+                                       works[i], mrecs[i], cbounds[i], cbounds[i + 1], qparts)
+            pdt[i] = dtm
+            pbad[i, 0] = bd
+            pbad[i, 1] = cd
     dtmin = 1e300
     bad = -1
     code = ERR_NONE

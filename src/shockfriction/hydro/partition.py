@@ -42,8 +42,9 @@ class Partition:
         return (self.cbounds, self.pnode_ptr, self.pnodes, self.border)
 
 
-#: partitions per thread (at most): handed out to the threads one at a time, so that a thread whose cells cost more
-#: (a plastic zone, a shock front) takes fewer of them
+#: partitions per thread (at most): the force pass and the cell update hand them out to the threads one at a time
+#: (a work queue, jit_bits.fetch_add), so that a thread whose cells cost more (a plastic zone, a shock front) takes
+#: fewer of them
 PARTS_PER_THREAD = 4
 #: cells per partition below which fewer partitions per thread are made (each cut adds border nodes)
 MIN_PART_CELLS = 2048

@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import get_num_threads, njit, prange
 
-from shockfriction.jit_bits import f64_bits, f64_from_bits
+from shockfriction.jit_bits import f64_bits, f64_from_bits, fetch_add
 from shockfriction.friction.subgrid.viscoplastic import (
     BAD_INPUT, E_COLUMN_WORK, E_FRICTION, E_HEAT_OUT, E_INTERFACE, E_OTHER, E_PLASTIC, E_VISCOUS, NO_CONVERGENCE, OK,
     P_BETA_Q, P_BETA_T, P_C, P_E_R, P_ETA_F, P_ETA_VP, P_F, P_HEAT_TOL, P_KAPPA, P_L, P_PICARD_TOL, P_RHO, P_T0,
@@ -139,13 +139,20 @@ def excess_step(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt
 def _excess_parallel(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                      TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, nblocks, quiet_ok):
-    """:func:`_excess_block` over ``nblocks`` blocks of consecutive columns in parallel."""
+    """:func:`_excess_block` over ``nblocks`` blocks of consecutive columns in parallel, taken from a work queue
+    (``jit_bits.fetch_add``: a thread takes the next block when it has finished its last, so the threads share
+    the pressed columns' work however it lies; docs/theory/threads.md, "A work queue for the partitions")."""
     nc = v.shape[1]
-    for b in prange(nblocks):
-        _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                      tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
-                      TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, np.uint64(b * nc // nblocks),
-                      np.uint64((b + 1) * nc // nblocks), quiet_ok)
+    queue = np.zeros(1, np.int64)
+    for _ in prange(nblocks):  # a thread's first iteration takes blocks until none is left, its others none
+        while True:
+            b = fetch_add(queue, 0)
+            if b >= nblocks:
+                break
+            _excess_block(dz, w, v, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+                          tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
+                          TF, T2, c2, a2, oth, eps_ref, yhc, yhe, yrc, np.uint64(b * nc // nblocks),
+                          np.uint64((b + 1) * nc // nblocks), quiet_ok)
 
 
 @njit(cache=True, error_model="numpy", fastmath={"reassoc"})

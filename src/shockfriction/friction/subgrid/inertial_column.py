@@ -34,6 +34,7 @@ from shockfriction.friction.subgrid.viscoplastic import (
     P_HEAT_TOL, P_INERTIA, P_KAPPA, P_L, P_MAX_NEWTON, P_MECH_TOL, P_PICARD_TOL, P_RHO, P_T0, P_T_FAR, P_V_R, P_Z,
     PHI_MIN, SQRT3, _cell_state, linear_return, liquid_viscosity, other_body_response, return_correction,
     return_map, temperature_of)
+from shockfriction.jit_bits import fetch_add
 from shockfriction.materials.strength import (
     I_BETA, I_G, I_G0, I_H, I_N, I_TF, I_XI, I_Y0, I_YMAX)
 
@@ -72,13 +73,19 @@ def inertial_step(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, 
 def _inertial_parallel(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
                        tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
                        TF, v_far, T2, c2, a2, oth, reach, nblocks):
-    """:func:`_inertial_block` over ``nblocks`` blocks of consecutive columns in parallel."""
+    """:func:`_inertial_block` over ``nblocks`` blocks of consecutive columns in parallel, taken from a work
+    queue (as :func:`~shockfriction.friction.subgrid.excess_layer._excess_parallel`)."""
     nc = v.shape[1]
-    for b in prange(nblocks):
-        _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
-                        tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
-                        TF, v_far, T2, c2, a2, oth, reach, np.uint64(b * nc // nblocks),
-                        np.uint64((b + 1) * nc // nblocks))
+    queue = np.zeros(1, np.int64)
+    for _ in prange(nblocks):  # a thread's first iteration takes blocks until none is left, its others none
+        while True:
+            b = fetch_add(queue, 0)
+            if b >= nblocks:
+                break
+            _inertial_block(dz, w, v, ge, Gs, eps, e, T, F_N, v_free, v_prev, k, tau_cap, p, par, dt, max_iter,
+                            tau, v_half, v_local, q_in, film, iters, status, energy, de, de2, pw, retry,
+                            TF, v_far, T2, c2, a2, oth, reach, np.uint64(b * nc // nblocks),
+                            np.uint64((b + 1) * nc // nblocks))
 
 
 @njit(cache=True, error_model="numpy")
