@@ -75,7 +75,8 @@ def test_a_costly_item_leaves_the_rest_to_the_other_thread():
         owner = np.full(n, -1, np.int64)
         _static(cost, owner)
         # prange alone: the first half of the items on the costly item's thread, whatever their cost
-        assert (owner[: n // 2] == owner[0]).all()
+        assert (owner[: n // 2] == owner[0]).all(), (
+            "numba's prange now shares its iterations otherwise: revisit docs/theory/threads.md's work queue")
         owner[:] = -1
         taken = np.zeros(n, np.int64)
         _take(cost, taken, owner, np.zeros(1, np.int64))
