@@ -2,7 +2,8 @@
 ``hat_weights_parallel``: the parallel hydro kernels' path, docs/theory/threads.md) gives the bytes of the serial
 kernels: on open and periodic lines, plane and axisymmetric, with nodes off the guide (inactive), over moving
 configurations that reseed the local search from the last cycle's segments.  And the position shifts' cell
-volumes (``shifted_volumes``) are ``cell_volumes``' bytes on the cells touching a moved node."""
+volumes (``shifted_volumes``, over every cell or the listed ones) are ``cell_volumes``' bytes on the
+cells touching a moved node, and ``shift_listed_nodes`` over the nodes that may carry a shift is ``shift_nodes``."""
 
 import numpy as np
 import pytest
@@ -97,9 +98,47 @@ def test_shifted_volumes_are_cell_volumes_of_the_moved_cells(axi):
     moved[[0, 5, 200, 201, 777, x.size - 1]] = True
     ref = np.empty(conn.shape[0])
     K.cell_volumes(conn, x, y, axi, ref)
-    for func in (K.shifted_volumes, K.shifted_volumes_parallel):
+    every = np.arange(conn.shape[0])
+    listed = np.flatnonzero((moved[conn].any(axis=1)) | (every % 7 == 0))  # the moved cells and others
+    for func, cells in ((K.shifted_volumes, every), (K.shifted_volumes_parallel, every), (K.shifted_volumes, listed)):
         out = np.full(conn.shape[0], -1.0)
-        func(conn, moved, x, y, axi, out)
+        func(conn, moved, x, y, axi, out, cells)
         touched = moved[conn].any(axis=1)
         np.testing.assert_array_equal(out[touched], ref[touched])
         assert (out[~touched] == -1.0).all()
+
+
+def test_shifting_the_listed_nodes_is_shifting_every_node():
+    """``shift_listed_nodes`` over the nodes that may carry a shift (some of them with none) gives
+    ``shift_nodes``' bytes: positions, zeroed shifts, moved flags and the sum of (m_own/m) F . dx, per chunk of 64
+    nodes then the chunks in order (terms of both signs over eight decades, so that another order differs)."""
+    rng = np.random.default_rng(7)
+    nn = 1000
+    x0, y0 = rng.uniform(0, 1, nn), rng.uniform(0, 1, nn)
+    fx, fy = rng.standard_normal(nn) * 10.0 ** rng.uniform(-4, 4, nn), rng.standard_normal(nn)
+    mass = rng.uniform(1.0, 2.0, nn)
+    mass_own = mass * rng.choice([1.0, 0.5], nn)
+    listed = np.sort(rng.choice(nn, 150, replace=False)).astype(np.int64)
+    sx0, sy0 = np.zeros(nn), np.zeros(nn)
+    shifted = listed[rng.uniform(size=listed.size) < 0.7]
+    sx0[shifted] = rng.standard_normal(shifted.size) * 1e-6
+    sy0[shifted] = rng.standard_normal(shifted.size) * 1e-6
+    runs = []
+    for kind in ("serial", "parallel", "listed"):
+        x, y, sx, sy, moved = x0.copy(), y0.copy(), sx0.copy(), sy0.copy(), np.zeros(nn, np.bool_)
+        if kind == "listed":
+            w = K.shift_listed_nodes(x, y, sx, sy, fx, fy, mass_own, mass, listed, moved)
+        else:
+            func = K.shift_nodes if kind == "serial" else K.shift_nodes_parallel
+            w = func(x, y, sx, sy, fx, fy, mass_own, mass, np.zeros((nn + 63) // 64), moved)
+        runs.append((w, x, y, sx, sy, moved))
+    for other in runs[1:]:
+        assert other[0] == runs[0][0]
+        for a, b in zip(other[1:], runs[0][1:]):
+            np.testing.assert_array_equal(a, b)
+    assert runs[0][5].sum() == shifted.size and not runs[0][3].any()
+    terms = (mass_own / mass * (fx * sx0 + fy * sy0))[listed]
+    plain = 0.0
+    for v in terms:
+        plain += v
+    assert plain != runs[0][0]   # the listed terms summed without the chunks differ: the order is tested

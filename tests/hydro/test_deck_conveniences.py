@@ -84,3 +84,26 @@ def test_cell_probe_asking_for_a_velocity_is_a_clear_deck_error(make_strip):
     deck["probes"] = [{"name": "bad", "body": "target", "cell": [0, 3], "quantities": ["p", "vy"]}]
     with pytest.raises(DeckError, match="not vy: velocities and positions live on nodes; add a probe with node"):
         prepare(deck)
+
+
+def test_node_probes_are_read_before_the_update_and_give_the_same_rows(make_strip):
+    """With probes of nodes only, a history row's viscous heat goes into the cells in the cell update (no pass of
+    its own) and the probes are read before it; the rows and the state are the bytes of the path that puts the heat
+    in before the row (as for probes of a cell), positions included (read after the update they would be
+    x^{n+1})."""
+    deck = make_strip(ny_flyer=10, ny_target=30, velocity="800 m/s", end="0.5 us")
+    deck["probes"] = [{"name": "n", "body": "target", "node": [0, 15], "quantities": ["vx", "vy", "x", "y"]}]
+    sims = [prepare(deck) for _ in range(2)]
+    assert sims[0]._probes_on_nodes
+    sims[1]._probes_on_nodes = False   # the heat before the row, as a cell probe needs
+    for sim in sims:
+        sim.run()
+    a, b = sims
+    rows = np.array(a.probe_rows)
+    assert len(rows) > 50 and np.ptp(rows[:, 2]) > 10.0 and np.ptp(rows[:, 4]) > 1e-7   # the node moved
+    np.testing.assert_array_equal(np.array(a.probe_rows), np.array(b.probe_rows))
+    np.testing.assert_array_equal(np.array(a.energy_rows), np.array(b.energy_rows))
+    for name in ("x", "y", "vx", "vy", "e", "pressure"):
+        np.testing.assert_array_equal(getattr(a.state, name), getattr(b.state, name))
+    deck["probes"].append({"name": "c", "body": "target", "cell": [0, 3], "quantities": ["p"]})
+    assert not prepare(deck)._probes_on_nodes

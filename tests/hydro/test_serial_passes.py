@@ -224,7 +224,8 @@ def test_partition_of_a_hand_mesh():
 def test_partition_count_is_a_whole_number_per_thread():
     assert partition_count(1, 10) == 1 and partition_count(2, 10) == 2  # small meshes: one per thread
     assert partition_count(2, 40_000) == 8 and partition_count(16, 640_000) == 64  # four per thread
-    assert partition_count(16, 40_000) == 16  # 19 would leave three threads a second round
+    assert partition_count(16, 40_000) == 64 and partition_count(16, 31_921) == 48  # the 200 x 200 block, the cone
+    assert partition_count(16, 20_000) == 32  # 39 would leave seven threads a further round
     for threads in range(1, 20):
         for cells in (100, 5_000, 40_000, 70_000, 640_000):
             assert partition_count(threads, cells) % threads == 0

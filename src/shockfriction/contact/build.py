@@ -39,6 +39,12 @@ class SlideLineInterface:
         # the simulation calls after_interfaces once every interface has corrected the velocities
         self._deferred = bool(getattr(simulation, "calls_after_interfaces", False))
 
+    @property
+    def shifted_nodes(self) -> np.ndarray:
+        """The nodes whose position shift the line's penetration projection may make non-zero: its slave and guide
+        nodes (their node groups' representatives), ascending."""
+        return np.union1d(self.line.slave_imp, self.line.guide_imp).astype(np.int64)
+
     def apply(self, state, dt: float, t: float, cycle: int) -> None:
         """Correct the free velocities of the slide-line nodes by contact and friction impulses.
 

@@ -23,14 +23,16 @@ One call of :meth:`Simulation.step` advances t^n -> t^{n+1}:
    constrained components and moves x^n by them, energy-neutrally: the cells they
    touch take their volume at the shifted x^n as V^n (the shift does no p dV work;
    e is kept), and -sum F.dx, what it would have made, is booked as
-   ``state.energy.projection_work`` for the record (not in the balance);
+   ``state.energy.projection_work`` for the record (not in the balance).  An interface that names the nodes
+   it may shift (``shifted_nodes``, an array of node indices) lets the cycle pass over those nodes and their
+   cells only;
 5. positions x^{n+1} = x^n + dt^{n+1/2} v^{n+1/2};
 6. cells: the viscous forces' heat of step 3-4, density, strain rate, stress, viscosity,
    energy, EOS, temperature and the next stable time step, one call
    (:func:`~shockfriction.hydro.kernels.update_cells_serial`).  On a cycle whose history row
-   has probes or observers the viscous heat goes into the cells before the row instead (they
-   see it at t^n); the state is the same either way.  The energy sums are taken only for a
-   row (docs/theory/fused-cycle.md).
+   has probes of a cell or observers the viscous heat goes into the cells before the row instead
+   (they see it at t^n; probes of nodes are read before the update); the state is the same either
+   way.  The energy sums are taken only for a row (docs/theory/fused-cycle.md).
 
 On one thread, without interfaces and when the row (if any) has no probes or observers, steps 1-6
 are one call (:func:`~shockfriction.hydro.kernels.cycle_serial`: the same operations in the same order, steps
@@ -62,6 +64,9 @@ class Interface(Protocol):
 
     def apply(self, state, dt: float, t: float, cycle: int) -> None: ...
 
+
+#: the probe quantities of a node (the others are a cell's)
+NODE_PROBES = ("vx", "vy", "x", "y")
 
 # the staged cycle's node passes run in parallel from this many nodes (Simulation.passes_parallel).  0: always, on
 # the parallel path.  On the 16-core device machine the cone shot (32 k nodes) ran 1.44 s with its passes serial
@@ -155,7 +160,7 @@ class Simulation:
         self._jx_int_prev, self._jy_int_prev = np.zeros(nn), np.zeros(nn)
         self._int_active = False
         self._heat_in_update = False  # the viscous heat of this step still to be put in by the cell update
-        self._pending_row = None  # (ke, ie, heat, budget) of a history row waiting for that heat
+        self._pending_row = None  # (ke, ie, heat, budget, probe values) of a history row waiting for that heat
         self._all_nodes = np.arange(nn, dtype=np.int64)
         self._bc_nodes = np.unique(problem.constraints.node).astype(np.int64)
         self._finished = False
@@ -193,8 +198,10 @@ class Simulation:
         self._bc_ptr = np.searchsorted(c.node[order], np.append(self._bc_nodes, nn)).astype(np.int64)
         self._bc_cons = order
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
-        # position shifts' scratch (a tuple: no checkpoint keeps it): the nodes they move, zeros (never written)
-        self._shift_scratch = (np.zeros(nn, np.bool_), np.zeros(nn))
+        # position shifts' scratch (a tuple: no checkpoint keeps it): the nodes they move, zeros (never written),
+        # every cell's index
+        self._shift_scratch = (np.zeros(nn, np.bool_), np.zeros(nn), np.arange(nc, dtype=np.int64))
+        self._shift_lists = None   # (_shifted_lists' answer,) once built
         # kernels.jump_works' chunk sums (interface work, boundary work); a tuple: no checkpoint keeps it
         self._jump_parts = (np.zeros((2, (nn + K.SUM_CHUNK - 1) // K.SUM_CHUNK)),)
         self._grp = (problem.groups.ptr, problem.groups.nodes)
@@ -213,6 +220,8 @@ class Simulation:
         self.probe_columns = [f"{p.name}.{q}" for p in problem.probes for q in p.quantities]
         self.probe_every = deck.output.probe_every
         self._getters = [self._probe_getter(q, p.index) for p in problem.probes for q in p.quantities]
+        # every probe a node's (velocity, position): read at t^n before the cell update, which does not touch them
+        self._probes_on_nodes = all(q in NODE_PROBES for p in problem.probes for q in p.quantities)
         self.observers: list[Callable[["Simulation"], None]] = []
         # called by run() between cycles (state at t^n, nothing half-updated): output writers, checkpoints
         self.between_cycles: list[Callable[["Simulation"], None]] = []
@@ -272,8 +281,11 @@ class Simulation:
         shifts: the works of the impulses on the final v^{n+1/2}); ``after_step(state, dt, t, cycle)``
         is called at the end of each cycle (positions and cells at t^{n+1} = t, dt the step just done), ``close()``
         when the run ends (also on failure); ``simulation.out_dir`` is the output folder of the
-        run (None without one), for interface histories."""
+        run (None without one), for interface histories.  Optional attribute ``shifted_nodes``: every node
+        whose position shift (``state.shift_x, shift_y``) the object may make non-zero (the cycle then moves
+        those nodes only: :meth:`_shifted_lists`)."""
         self.interfaces.append(obj)
+        self._shift_lists = None  # the nodes that position shifts may move: built again on first use
         if hasattr(obj, "after_step"):
             self._after_step.append(obj)
         if hasattr(obj, "after_interfaces"):
@@ -422,10 +434,10 @@ class Simulation:
                     nodes, s.mass_own, self._vx_old, self._vy_old, s.vx, s.vy, self._vx_pre, self._vy_pre,
                     self._jx_bc_prev, self._jy_bc_prev, False, self._vx_pre, self._vy_pre)
         # heat of the hourglass / edge / shear viscosity forces over this velocity step: in the cell
-        # update, unless the history row of this cycle has probes or observers, which must see it in
-        # the cells at t^n: then here, before the row (a row without them is completed after the
-        # update, which returns the heat)
-        in_update = not record or not (final or self._getters or self.observers)
+        # update, unless the history row of this cycle has probes of a cell or observers, which must see it
+        # in the cells at t^n: then here, before the row (a row without them, or whose probes are all of
+        # nodes, read now, is completed after the update, which returns the heat)
+        in_update = not record or not (final or self.observers or (self._getters and not self._probes_on_nodes))
         self._heat_in_update = in_update
         if not record:
             return
@@ -438,8 +450,8 @@ class Simulation:
             else:
                 ke = K.kinetic_energy_product(self._vx_old, self._vy_old, s.vx, s.vy, s.mass_own)
         budget = (en.boundary_work, en.interface_work, q_int, *self._books(heats_before))
-        if in_update:
-            self._pending_row = (ke, ie, q_int - q_before, budget)
+        if in_update:  # node probes are read now (the node pass moves x to x^{n+1} before the update)
+            self._pending_row = (ke, ie, q_int - q_before, budget, [float(g()) for g in self._getters])
             return
         if self.passes_parallel:
             qv = K.viscous_heat_parallel(s.conn, self._vcorner, self._vx_old, self._vy_old, s.vx, s.vy, dtv,
@@ -490,7 +502,7 @@ class Simulation:
         if record:  # the row at t^n, as _velocity_stage books it (no interface heat this step: q_int = q_before)
             budget = (en.boundary_work, en.interface_work, en.interface_heat,
                       *self._books((en.friction_heat, en.contact_heat)))
-            self._pending_row = (ke, ie, 0.0, budget)
+            self._pending_row = (ke, ie, 0.0, budget, [])
         self._end_step(dt, dtn, bad, code, qv)
 
     def _impulse_work(self, nodes, *args) -> float:
@@ -506,22 +518,52 @@ class Simulation:
         projection work (a measure, not in the balance)."""
         s = self.state
         sx, sy = s.shift_x, s.shift_y
-        if not K.any_shifted(sx, sy):
+        listed = self._shifted_lists()
+        if not K.any_shifted(sx, sy, self._all_nodes if listed is None else listed[0]):
             return
-        moved, zero = self._shift_scratch
+        moved, zero, every_cell = self._shift_scratch
         if self._grp[0].shape[0] > 1:
             K.sync_groups(sx, sy, zero, zero, *self._grp)
         # (the reactions' work, computed from the "old" values passed here, is not wanted: zeros will do)
         K.apply_constraints(sx, sy, zero, zero, s.mass_own, *self._cons_fixed, 0.0)
         # a group's force is the group sum, given to each member: weight by mass_own/mass.  Moves x^n, zeroes the
-        # shifts and marks the nodes moved (after the groups and constraints) in ``moved``
-        shift = K.shift_nodes_parallel if self.passes_parallel else K.shift_nodes
-        w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1], moved)
+        # shifts and marks the nodes moved (after the groups and constraints) in ``moved``; then, energy-neutral,
+        # the cells touching a shifted node take their volume at the shifted x^n as V^n, so the cell update's
+        # -p dV sees only the motion over the step, not the shift (e is kept across the shift).  Where every
+        # interface names the nodes it may shift, over those nodes and their cells only (the same bytes)
+        if listed is not None:
+            w = -K.shift_listed_nodes(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, listed[0], moved)
+            K.shifted_volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume, listed[1])
+        else:
+            shift = K.shift_nodes_parallel if self.passes_parallel else K.shift_nodes
+            w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1], moved)
+            volumes = K.shifted_volumes_parallel if self.passes_parallel else K.shifted_volumes
+            volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume, every_cell)
         s.energy.projection_work += w
-        # energy-neutral: the cells touching a shifted node take their volume at the shifted x^n as V^n, so the
-        # cell update's -p dV sees only the motion over the step, not the shift (e is kept across the shift)
-        volumes = K.shifted_volumes_parallel if self.passes_parallel else K.shifted_volumes
-        volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume)
+
+    def _shifted_lists(self) -> tuple | None:
+        """(the nodes whose position shift may be non-zero, ascending; the cells touching them) when every
+        interface names the nodes it may shift (its ``shifted_nodes``), with the other members of their node
+        groups (which share a group's shift); None when one does not (the shifts then pass over every node).
+        Built on first use after an interface is registered."""
+        if self._shift_lists is None:
+            named = [getattr(obj, "shifted_nodes", None) for obj in self.interfaces]
+            if any(n is None for n in named):
+                self._shift_lists = (None,)
+            else:
+                nn = self.state.n_nodes
+                mark = np.zeros(nn, np.bool_)
+                for n in named:
+                    mark[np.asarray(n, np.int64)] = True
+                ptr, members = self._grp
+                for g in range(ptr.shape[0] - 1):
+                    grp = members[ptr[g]:ptr[g + 1]]
+                    if mark[grp].any():
+                        mark[grp] = True
+                nodes = np.flatnonzero(mark).astype(np.int64)
+                cells = np.flatnonzero(mark[self.state.conn].any(axis=1)).astype(np.int64)
+                self._shift_lists = ((nodes, cells),)
+        return self._shift_lists[0]
 
     def _advance_stage(self) -> None:
         """Steps 5-6: positions, cells, next time step."""
@@ -548,9 +590,9 @@ class Simulation:
         """After the cell update: the pending history row, a bad cell's error, t^{n+1}, the next step."""
         s = self.state
         if self._pending_row is not None:  # the history row at t^n, now that its viscous heat is known
-            ke, ie, dq, budget = self._pending_row
+            ke, ie, dq, budget, probes = self._pending_row
             self._pending_row = None
-            self._record(ke, ie + 0.5 * qv + dq, budget)
+            self._record(ke, ie + 0.5 * qv + dq, budget, probes)
         if bad >= 0:
             self._fail(bad, code)
         s.t += dt
@@ -575,10 +617,10 @@ class Simulation:
         return (en.friction_work, 0.5 * (heat_before[0] + en.friction_heat), en.column_heat, en.contact_work,
                 0.5 * (heat_before[1] + en.contact_heat), en.projection_work)
 
-    def _record(self, ke: float, ie: float, budget: tuple | None = None) -> None:
+    def _record(self, ke: float, ie: float, budget: tuple | None = None, probes: list | None = None) -> None:
         """One history row at t^n; ``budget`` = (boundary work, interface work, interface heat, friction work,
         friction heat, column heat, contact work, contact heat, projection work) at t^n (default: the running
-        totals).
+        totals); ``probes``: the probes' values at t^n, read earlier (default: read now).
 
         error = total - (initial + boundary work + interface work + interface heat) + max(0, contact work):
         every exchange is booked (the projection is energy-neutral: its column is not in the balance), but
@@ -595,7 +637,7 @@ class Simulation:
         self.energy_rows.append((s.t, f * ke, f * ie, f * total, f * wbc, f * wint, f * qint, f * fw, f * fh,
                                  f * colh, f * cw, f * ch, f * pw, f * err))
         if self._getters:
-            self.probe_rows.append((s.t, *[float(g()) for g in self._getters]))
+            self.probe_rows.append((s.t, *(probes if probes is not None else [float(g()) for g in self._getters])))
         for obs in self.observers:
             obs(self)
 

@@ -537,6 +537,20 @@ jump_works = njit(cache=True, **NO_REFCOUNT)(_jump_works_impl)
 jump_works_parallel = njit(cache=True, parallel=True)(_twin(_jump_works_impl, "_parallel"))
 
 
+@njit(inline="always")
+def _shift_node(x, y, sx, sy, fx, fy, mass_own, mass, moved, n):
+    """Node n: x^n moved by its position shift (sx, sy), the shift zeroed, ``moved[n]`` whether it moved; returns
+    (m_own/m) F . dx (the one body of :func:`shift_nodes` and :func:`shift_listed_nodes`)."""
+    u = sx[n]
+    w = sy[n]
+    moved[n] = u != 0.0 or w != 0.0
+    x[n] += u
+    y[n] += w
+    sx[n] = 0.0
+    sy[n] = 0.0
+    return mass_own[n] / mass[n] * (fx[n] * u + fy[n] * w)
+
+
 def _shift_nodes_impl(x, y, sx, sy, fx, fy, mass_own, mass, parts, moved):
     """Move x^n by the position shifts (sx, sy) and zero them; returns sum (m_own/m) F . dx (per chunk of
     SUM_CHUNK nodes, then the chunks in order: module docstring, "Sums").  moved[n]: whether node n moved."""
@@ -545,19 +559,31 @@ def _shift_nodes_impl(x, y, sx, sy, fx, fy, mass_own, mass, parts, moved):
     for i in prange(nch):
         part = 0.0
         for n in range(i << SUM_SHIFT, min((i + 1) << SUM_SHIFT, nn)):
-            u = sx[n]
-            w = sy[n]
-            part += mass_own[n] / mass[n] * (fx[n] * u + fy[n] * w)
-            moved[n] = u != 0.0 or w != 0.0
-            x[n] += u
-            y[n] += w
-            sx[n] = 0.0
-            sy[n] = 0.0
+            part += _shift_node(x, y, sx, sy, fx, fy, mass_own, mass, moved, n)
         parts[i] = part
     t = 0.0
     for i in range(nch):
         t += parts[i]
     return t
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def shift_listed_nodes(x, y, sx, sy, fx, fy, mass_own, mass, nodes, moved):
+    """:func:`shift_nodes` on the listed ``nodes`` only (ascending; every node whose shift may be non-zero, the
+    others' x^n, shifts and ``moved`` flags stay as they are).  The same sum: a node left out adds (m_own/m) F . 0
+    = +-0 to its chunk's part, which changes no part (a part is never -0: it starts at +0 and exact cancellation
+    rounds to +0), and a chunk with no listed node adds its part +0 to the total, which changes nothing either."""
+    t = 0.0
+    part = 0.0
+    chunk = -1
+    for k in range(nodes.shape[0]):
+        n = nodes[k]
+        if n >> SUM_SHIFT != chunk:
+            t += part
+            part = 0.0
+            chunk = n >> SUM_SHIFT
+        part += _shift_node(x, y, sx, sy, fx, fy, mass_own, mass, moved, n)
+    return t + part
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -654,18 +680,20 @@ move_nodes_parallel = njit(cache=True, parallel=True)(_twin(_move_nodes, "_paral
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def any_shifted(sx, sy):
-    """True when a position shift (sx, sy) is not zero (stops at the first one)."""
-    for n in range(sx.shape[0]):
+def any_shifted(sx, sy, nodes):
+    """True when a position shift (sx, sy) of one of ``nodes`` is not zero (stops at the first one)."""
+    for k in range(nodes.shape[0]):
+        n = nodes[k]
         if sx[n] != 0.0 or sy[n] != 0.0:
             return True
     return False
 
 
-def _shifted_volumes_impl(conn, moved, x, y, axi, out):
-    """out[c] = the volume of cell c at (x, y) for each cell with a node marked in ``moved`` (others untouched):
-    the cells that a position shift moved (:func:`cell_volumes`' arithmetic, in blocks of 1024 cells)."""
-    nc = conn.shape[0]
+def _shifted_volumes_impl(conn, moved, x, y, axi, out, cells):
+    """out[c] = the volume of cell c at (x, y) for each listed cell c (``cells``: every cell, or those touching a
+    node that a shift may move) with a node marked in ``moved`` (others untouched): the cells that a position shift
+    moved (:func:`cell_volumes`' arithmetic, in blocks of 1024 listed cells)."""
+    nc = cells.shape[0]
     nch = (nc + 1023) >> 10
     for i in prange(nch):
         xs = np.empty(4)
@@ -673,11 +701,12 @@ def _shifted_volumes_impl(conn, moved, x, y, axi, out):
         bx = np.empty(4)
         by = np.empty(4)
         hh = np.empty(4)
-        for c in range(i << 10, min((i + 1) << 10, nc)):
+        for k in range(i << 10, min((i + 1) << 10, nc)):
+            c = cells[k]
             if moved[conn[c, 0]] or moved[conn[c, 1]] or moved[conn[c, 2]] or moved[conn[c, 3]]:
-                for k in range(4):
-                    xs[k] = x[conn[c, k]]
-                    ys[k] = y[conn[c, k]]
+                for j in range(4):
+                    xs[j] = x[conn[c, j]]
+                    ys[j] = y[conn[c, j]]
                 out[c] = bvectors(xs, ys, axi, bx, by, hh)
 
 

@@ -46,8 +46,9 @@ class Partition:
 #: (a work queue, jit_bits.fetch_add), so that a thread whose cells cost more (a plastic zone, a shock front) takes
 #: fewer of them
 PARTS_PER_THREAD = 4
-#: cells per partition below which fewer partitions per thread are made (each cut adds border nodes)
-MIN_PART_CELLS = 2048
+#: cells per partition below which fewer partitions per thread are made (each cut adds border nodes; 512: four per
+#: thread on the cone shot and the 200 x 200 block at 16 threads, docs/theory/threads.md "Partitions for the queue")
+MIN_PART_CELLS = 512
 
 
 def partition_count(threads: int, n_cells: int) -> int:
