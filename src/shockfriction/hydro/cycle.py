@@ -502,7 +502,7 @@ class Simulation:
         if record:  # the row at t^n, as _velocity_stage books it (no interface heat this step: q_int = q_before)
             budget = (en.boundary_work, en.interface_work, en.interface_heat,
                       *self._books((en.friction_heat, en.contact_heat)))
-            self._pending_row = (ke, ie, 0.0, budget, [])
+            self._pending_row = (ke, ie, 0.0, budget, None)   # (no probes on a one-call cycle's row)
         self._end_step(dt, dtn, bad, code, qv)
 
     def _impulse_work(self, nodes, *args) -> float:
