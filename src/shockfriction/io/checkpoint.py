@@ -49,7 +49,8 @@ CHILDREN = {
     "SubgridInterface": ("columns",),
 }
 # set-up values that a restart takes from the deck and the command line, not from the checkpoint
-SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner"},
+SKIP = {"Simulation": {"t_end", "max_cycles", "threads", "parallel", "out_dir", "_node_ptr", "_node_corner",
+                       "_probes_on_nodes", "_shift_lists"},
         "ViscoplasticColumns": {"_oth"}}  # scratch of the kernel
 # arrays that checkpoints of earlier builds hold and this one no longer keeps (scratch): ignored on load
 DROPPED = {"Simulation": {"_corner"}}  # the force pass's scratch, now Simulation._force_scratch (a tuple)
