@@ -256,8 +256,9 @@ def test_the_listed_shift_pass_moves_what_the_full_pass_moves():
     for _ in range(3):
         for sim in sims:
             sim.step()
-    assert sims[0]._shifted_lists() is not None
-    sims[1]._shift_lists = (None,)   # as if an interface did not name its nodes: every node
+    assert sims[0]._shifted_lists()[0] is not None
+    # as if an interface did not name its nodes: every node and cell
+    sims[1]._shift_lists = (None, np.arange(sims[1].state.n_cells, dtype=np.int64))
     for _ in range(150):
         for sim in sims:
             sim.step()

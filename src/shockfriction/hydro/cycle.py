@@ -65,9 +65,6 @@ class Interface(Protocol):
     def apply(self, state, dt: float, t: float, cycle: int) -> None: ...
 
 
-#: the probe quantities of a node (the others are a cell's)
-NODE_PROBES = ("vx", "vy", "x", "y")
-
 # the staged cycle's node passes run in parallel from this many nodes (Simulation.passes_parallel).  0: always, on
 # the parallel path.  On the 16-core device machine the cone shot (32 k nodes) ran 1.44 s with its passes serial
 # (from 131 072 nodes) and 0.89 s with them parallel on 16 threads, 1.28 / 0.86 s on 8 (docs/theory/threads.md)
@@ -198,10 +195,9 @@ class Simulation:
         self._bc_ptr = np.searchsorted(c.node[order], np.append(self._bc_nodes, nn)).astype(np.int64)
         self._bc_cons = order
         self._cons_fixed = (c.node, c.nx, c.ny, np.zeros_like(c.value))   # for position shifts
-        # position shifts' scratch (a tuple: no checkpoint keeps it): the nodes they move, zeros (never written),
-        # every cell's index
-        self._shift_scratch = (np.zeros(nn, np.bool_), np.zeros(nn), np.arange(nc, dtype=np.int64))
-        self._shift_lists = None   # (_shifted_lists' answer,) once built
+        # position shifts' scratch (a tuple: no checkpoint keeps it): the nodes they move, zeros (never written)
+        self._shift_scratch = (np.zeros(nn, np.bool_), np.zeros(nn))
+        self._shift_lists = None   # _shifted_lists' answer, once built
         # kernels.jump_works' chunk sums (interface work, boundary work); a tuple: no checkpoint keeps it
         self._jump_parts = (np.zeros((2, (nn + K.SUM_CHUNK - 1) // K.SUM_CHUNK)),)
         self._grp = (problem.groups.ptr, problem.groups.nodes)
@@ -221,7 +217,7 @@ class Simulation:
         self.probe_every = deck.output.probe_every
         self._getters = [self._probe_getter(q, p.index) for p in problem.probes for q in p.quantities]
         # every probe a node's (velocity, position): read at t^n before the cell update, which does not touch them
-        self._probes_on_nodes = all(q in NODE_PROBES for p in problem.probes for q in p.quantities)
+        self._probes_on_nodes = all(p.kind == "node" for p in problem.probes)
         self.observers: list[Callable[["Simulation"], None]] = []
         # called by run() between cycles (state at t^n, nothing half-updated): output writers, checkpoints
         self.between_cycles: list[Callable[["Simulation"], None]] = []
@@ -518,10 +514,10 @@ class Simulation:
         projection work (a measure, not in the balance)."""
         s = self.state
         sx, sy = s.shift_x, s.shift_y
-        listed = self._shifted_lists()
-        if not K.any_shifted(sx, sy, self._all_nodes if listed is None else listed[0]):
+        nodes, cells = self._shifted_lists()
+        if not K.any_shifted(sx, sy, self._all_nodes if nodes is None else nodes):
             return
-        moved, zero, every_cell = self._shift_scratch
+        moved, zero = self._shift_scratch
         if self._grp[0].shape[0] > 1:
             K.sync_groups(sx, sy, zero, zero, *self._grp)
         # (the reactions' work, computed from the "old" values passed here, is not wanted: zeros will do)
@@ -531,25 +527,25 @@ class Simulation:
         # the cells touching a shifted node take their volume at the shifted x^n as V^n, so the cell update's
         # -p dV sees only the motion over the step, not the shift (e is kept across the shift).  Where every
         # interface names the nodes it may shift, over those nodes and their cells only (the same bytes)
-        if listed is not None:
-            w = -K.shift_listed_nodes(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, listed[0], moved)
-            K.shifted_volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume, listed[1])
+        if nodes is not None:
+            w = -K.shift_listed_nodes(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, nodes, moved)
+            K.shifted_volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume, cells)
         else:
             shift = K.shift_nodes_parallel if self.passes_parallel else K.shift_nodes
             w = -shift(s.x, s.y, sx, sy, s.fx, s.fy, s.mass_own, s.mass, self._sums[1], moved)
             volumes = K.shifted_volumes_parallel if self.passes_parallel else K.shifted_volumes
-            volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume, every_cell)
+            volumes(s.conn, moved, s.x, s.y, s.axisymmetric, s.volume, cells)
         s.energy.projection_work += w
 
-    def _shifted_lists(self) -> tuple | None:
+    def _shifted_lists(self) -> tuple:
         """(the nodes whose position shift may be non-zero, ascending; the cells touching them) when every
         interface names the nodes it may shift (its ``shifted_nodes``), with the other members of their node
-        groups (which share a group's shift); None when one does not (the shifts then pass over every node).
-        Built on first use after an interface is registered."""
+        groups (which share a group's shift); (None, every cell) when one does not (the shifts then pass over
+        every node and cell).  Built on first use after an interface is registered."""
         if self._shift_lists is None:
             named = [getattr(obj, "shifted_nodes", None) for obj in self.interfaces]
             if any(n is None for n in named):
-                self._shift_lists = (None,)
+                self._shift_lists = (None, np.arange(self.state.n_cells, dtype=np.int64))
             else:
                 nn = self.state.n_nodes
                 mark = np.zeros(nn, np.bool_)
@@ -562,8 +558,8 @@ class Simulation:
                         mark[grp] = True
                 nodes = np.flatnonzero(mark).astype(np.int64)
                 cells = np.flatnonzero(mark[self.state.conn].any(axis=1)).astype(np.int64)
-                self._shift_lists = ((nodes, cells),)
-        return self._shift_lists[0]
+                self._shift_lists = (nodes, cells)
+        return self._shift_lists
 
     def _advance_stage(self) -> None:
         """Steps 5-6: positions, cells, next time step."""
