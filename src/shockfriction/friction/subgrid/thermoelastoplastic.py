@@ -522,9 +522,10 @@ PARALLEL_MIN_COLUMNS = 32
 #: on a multiple of it, so no two threads write the same line (arbitrary block edges would: docs/theory/threads.md)
 LINE_COLUMNS = 8
 
-#: the weight of a busy column (swept or pressed) in the parallel step's blocks, against 1 for an idle column: on the
-#: cone shot a cache line of busy columns took ~40 us, of idle ones ~6 us (docs/theory/threads.md)
-BUSY_WEIGHT = 6
+#: the weight of a swept column (one with heat to carry, j0 <= j < j1) in the parallel step's blocks, against 1 for
+#: any other: on the cone shot a cache line of swept columns cost ~120 us more than a line of unswept ones, pressed
+#: or not (the solve of a pressed column with a uniform temperature converges at once; docs/theory/threads.md)
+SWEPT_WEIGHT = 32
 
 
 def parallel_blocks(ncol: int) -> int:
@@ -550,7 +551,7 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
     :func:`~shockfriction.friction.subgrid.column.sweep_span`) and their interface solve
     (:func:`solve_thermoelastoplastic`'s arguments) in one parallel region: each block of consecutive columns is
     swept, then solved, by one thread (``nblocks`` blocks of whole cache lines and equal work,
-    :func:`balanced_blocks`: the busy columns are a few of them, early in a shot the first ones).  Every
+    :func:`balanced_blocks`: the swept columns are a few of them, early in a shot the first ones).  Every
     column's arithmetic is its own, so the bytes are those of the
     sweep of all columns followed by the serial solve (one region per step instead of a serial sweep and a
     parallel solve: docs/theory/threads.md)."""
@@ -560,7 +561,7 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
     ncol = X.shape[1]
     j0, j1, s0, s1 = sweep_span(ncol, j0, j1, s0, s1)
     bounds = np.empty(nblocks + 1, dtype=np.int64)
-    balanced_blocks(F_N, j0, j1, bounds)
+    balanced_blocks(ncol, j0, j1, bounds)
     for b in prange(nblocks):
         a = bounds[b]
         e = bounds[b + 1]
@@ -573,26 +574,24 @@ def advance_and_solve_parallel(sweep, theta_unit, weights, eps_prev, hard, hard_
 
 
 @njit(cache=True, inline="always")
-def _column_weight(F_N, j, j0, j1):
-    """A column's work in :func:`balanced_blocks`: BUSY_WEIGHT when it is swept (j0 <= j < j1) or pressed
-    (F_N > 0), else 1."""
-    return BUSY_WEIGHT if (F_N[j] > 0.0 or j0 <= j < j1) else 1
+def _column_weight(j, j0, j1):
+    """A column's work in :func:`balanced_blocks`: SWEPT_WEIGHT when it is swept (j0 <= j < j1), else 1."""
+    return SWEPT_WEIGHT if j0 <= j < j1 else 1
 
 
 @njit(cache=True)
-def balanced_blocks(F_N, j0, j1, bounds):
+def balanced_blocks(ncol, j0, j1, bounds):
     """Bounds of len(bounds) - 1 blocks of whole cache lines (LINE_COLUMNS columns of a row) with equal work
-    (:func:`_column_weight`)."""
-    ncol = F_N.shape[0]
+    (:func:`_column_weight`) over ``ncol`` columns of which j0 .. j1 - 1 are swept."""
     nblocks = bounds.shape[0] - 1
     total = 0
     for j in range(ncol):
-        total += _column_weight(F_N, j, j0, j1)
+        total += _column_weight(j, j0, j1)
     bounds[0] = 0
     b = 1
     acc = 0
     for j in range(ncol):
-        acc += _column_weight(F_N, j, j0, j1)
+        acc += _column_weight(j, j0, j1)
         if (j + 1) % LINE_COLUMNS == 0 or j == ncol - 1:
             while b < nblocks and acc * nblocks >= b * total:
                 bounds[b] = j + 1
