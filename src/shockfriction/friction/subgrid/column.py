@@ -39,6 +39,17 @@ import numpy as np
 from numba import njit
 
 
+# --------------------------------------------------------------------------- per-column inputs
+def per_column(x, n: int) -> np.ndarray:
+    """``x`` as a writable, C-contiguous float64 array of shape (n,): scalars broadcast, an array that already is
+    one passed as it is.  The column kernels then see one array type whatever the caller hands in: a read-only view
+    or a broadcast (stride 0) would make numba compile a second version of each kernel, ~10 s apiece."""
+    a = np.asarray(x, dtype=np.float64)
+    if a.shape == (n,) and a.flags.c_contiguous and a.flags.writeable:
+        return a
+    return np.array(np.broadcast_to(a, (n,)), dtype=np.float64, order="C")
+
+
 # --------------------------------------------------------------------------- the books' sums
 @njit(cache=True)
 def column_sums(w, X):

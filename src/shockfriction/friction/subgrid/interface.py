@@ -76,7 +76,7 @@ import math
 import numpy as np
 
 from shockfriction.errors import SimulationError
-from shockfriction.friction.subgrid.column import ThermalColumns, column_sums, sweep_columns
+from shockfriction.friction.subgrid.column import ThermalColumns, column_sums, per_column, sweep_columns
 from shockfriction.friction.subgrid.thermoelastic import (ABOVE_MELT, BAD_INPUT, NO_CONVERGENCE, SQRT3,
                                                            book_step, first_nonfinite, first_nonzero,
                                                            solve_thermoelastic,
@@ -103,12 +103,6 @@ MELT_MARGIN = 1.0  # K: the lagged plastic heat never takes a column node above 
 
 def _material(m) -> Material:
     return get_material(m) if isinstance(m, str) else m
-
-
-def _per_node(x, n: int) -> np.ndarray:
-    """``x`` as a float array of shape (n,) (scalars broadcast, no copy)."""
-    a = np.asarray(x, float)
-    return a if a.shape == (n,) else np.broadcast_to(a, (n,))
 
 
 class SubgridInterface:
@@ -268,7 +262,7 @@ class SubgridInterface:
              cycle: int | None = None, time: float | None = None):
         """Advance every column by ``dt``; return ``(tau, slip_corrected)`` (see module docstring)."""
         n = self.n_columns
-        sig, vf, vp, ms, mg, S = (_per_node(x, n) for x in (sigma_n, v_free, slip_prev, m_slave, m_guide, area))
+        sig, vf, vp, ms, mg, S = (per_column(x, n) for x in (sigma_n, v_free, slip_prev, m_slave, m_guide, area))
         dt = float(dt)
         if not (dt > 0.0 and math.isfinite(dt)):
             raise SimulationError(f"sub-grid step {self._when(cycle, time)}: time step {dt!r} is not positive and finite")
@@ -300,7 +294,7 @@ class SubgridInterface:
             sweep = cols.sweep_plan(dt, pend, n_src, 1.0 / cols.rho_c, T_F - MELT_MARGIN, self._pending_flags,
                                     (s0, s1))
             solve = (cols.theta_unit, cols.weights, self.eps_p, self._hard, self._hard_blk, F_N,
-                     np.ascontiguousarray(vf), np.ascontiguousarray(vp), k, tau_cap, self.beta_T, self.f, self.scg, dt,
+                     vf, vp, k, tau_cap, self.beta_T, self.f, self.scg, dt,
                      self.xtol, self.max_iter, self._theta_s, tau, self._v_half, self.slip_local, self.slip_plastic,
                      q_in, self._deps, self.iterations, self._status, self._depth, self.beta_Q * SQRT3,
                      self._pending_plastic_heat, self._pending_depth, self.plastic_work, self.lag_temperature,
@@ -318,8 +312,7 @@ class SubgridInterface:
             X = cols.advance(dt)
         unit = cols.theta_unit
         if self.model == "thermoelastic":
-            solve_thermoelastic(X[0], unit[0], F_N, np.ascontiguousarray(vf),
-                                np.ascontiguousarray(vp), k, tau_cap, self.beta_T, self.f, self.scg, self.xtol,
+            solve_thermoelastic(X[0], unit[0], F_N, vf, vp, k, tau_cap, self.beta_T, self.f, self.scg, self.xtol,
                                 self.max_iter, self._theta_s, tau, self._v_half, self.slip_local, q_in,
                                 self.iterations, self._status)
             self.slip_plastic[:] = 0.0

@@ -58,7 +58,7 @@ import math
 import numpy as np
 from numba import njit
 
-from shockfriction.friction.subgrid.column import column_sums
+from shockfriction.friction.subgrid.column import column_sums, per_column
 from shockfriction.materials.strength import exp_inline, log_inline, scg_melt_temperature
 
 SQRT3 = math.sqrt(3.0)
@@ -572,8 +572,7 @@ class ViscoplasticColumns:
         partly molten Couette film from its steady state (tau 3.8 % off after 2.5 us).  BDF2 is used for imposed
         slip on solid columns (the first BDF2 step after such a stretch again in the start's sub-steps)."""
         nc = self.n_columns
-        arr = [np.ascontiguousarray(np.broadcast_to(np.asarray(a, float), (nc,)))
-               for a in (sigma_n, v_free, slip_prev, k, tau_cap, v_far)]
+        arr = [per_column(a, nc) for a in (sigma_n, v_free, slip_prev, k, tau_cap, v_far)]
         dt = float(dt)
         # BDF2 for imposed slip and solid columns only (see the docstring)
         imposed = self.time_scheme == "bdf2" and not np.any(arr[3] > 0.0) \
