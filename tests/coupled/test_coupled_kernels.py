@@ -93,7 +93,7 @@ def test_plastic_heat_clipped_below_melting_with_the_energy_booked():
     X, src = np.ascontiguousarray(theta.T), np.ascontiguousarray(pending.T)
     zero, one = np.zeros(3), np.ones(3)
     sweep_columns(X, np.zeros(2), zero, False, src, 3, 1.0 / rho_c, rho_c, limit, w, per_column, deposited,
-                  zero, one, zero, np.zeros(0, np.int64), np.zeros(2), np.empty((1, 2)))
+                  zero, one, zero, np.zeros(0, np.int64), np.zeros(2), np.empty((1, 2)), 0, -1, 0, -1)
     lost = per_column @ area
     pending = src.T
     np.testing.assert_allclose(pending, [[1e6, 2.4e6, 0.24e6], [5e6, 0.0, 1e5]])

@@ -191,7 +191,7 @@ def test_partitioned_force_pass_matches_the_serial_pass(axi, qedge, parts):
     gx, gy, vc_parallel = np.full(nn, np.nan), np.full(nn, np.nan), np.empty((nc, 8))
     ie_p = K.forces_parallel(*args, np.zeros((parts, K.FORCE_SCRATCH)), vc_parallel, gx, gy, s.e, s.e_el,
                              s.cell_mass, True, *part.arrays(), np.zeros((nc, 8)), part.bnodes, part.bptr, part.bcorn,
-                             np.zeros(nc // K.SUM_CHUNK + 1))
+                             np.zeros(nc // K.SUM_CHUNK + 1), True)
     assert np.array_equal(vc_parallel, vc_serial)
     assert np.array_equal(gx, fx) and np.array_equal(gy, fy)
     assert ie_p == ie

@@ -84,7 +84,8 @@ def test_sweep_of_the_busy_span_equals_the_full_sweep_bit_for_bit(lazy):
     factor = 1.0 / col.rho_c
     ref = (col.X.copy(), src.copy(), np.zeros(n), np.zeros(n), np.zeros_like(col._sfx))
     sweep_columns(ref[0], col.q_lazy, col.unit_lazy, col.lazy, ref[1], 20, factor, col.rho_c, 1000.0, col.weights,
-                  ref[2], ref[3], col.mult, col.inv_bp, col.c, np.flatnonzero(~(col.active | flags)), np.empty(n), ref[4])
+                  ref[2], ref[3], col.mult, col.inv_bp, col.c, np.flatnonzero(~(col.active | flags)), np.empty(n), ref[4],
+                  0, -1, 0, -1)
     X = col.advance(dt, src, 20, factor, 1000.0, src_flags=flags, src_span=(4, 10))
     assert (col._span(flags, (4, 10))[:2]) == (3, 12)
     for got, want in zip((X, src, col._clipped, col._deposited, col._sfx), ref):

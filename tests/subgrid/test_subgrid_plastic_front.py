@@ -86,7 +86,7 @@ def test_plastic_depth_bound_is_conservative():
         ad_s = np.maximum.accumulate(ad[::-1])[::-1].copy()
         unit_s = np.maximum.accumulate(unit[::-1])[::-1].copy()
         hard_s = np.minimum.accumulate(hard[::-1])[::-1].copy()
-        m = plastic_depth(tau_max, F_N, q_hi, ad, ad_s[::8].copy(), unit_s, hard, hard_s[::8].copy(), p)
+        m = plastic_depth(tau_max, F_N, q_hi, ad, ad_s[::8].copy(), unit_s, hard, hard_s[::8].copy(), p, -1)  # no guess
         for guess in (0, m - 1, m, m + 1, nn - 1, int(rng.integers(nn))):  # galloping from a guess: same m
             assert plastic_depth(tau_max, F_N, q_hi, ad, ad_s[::8].copy(), unit_s, hard, hard_s[::8].copy(), p,
                                  guess) == m

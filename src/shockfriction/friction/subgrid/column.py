@@ -170,7 +170,7 @@ def _max_row(top, row):
 
 @njit(cache=True)
 def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, clipped, deposited, mult, inv_bp, c,
-                  idle, idle_val, sfx, j0=0, j1=-1, s0=0, s1=-1):
+                  idle, idle_val, sfx, j0, j1, s0, s1):
     """theta_ad for every column, in place: X (n_nodes, n_columns) holds theta on entry (or, when ``lazy``,
     the previous theta_ad with theta = X + q theta_unit_prev, eq. 7.70, applied here on the fly: the
     affine update of the last step folded into this forward sweep) and theta_ad on exit,
@@ -185,6 +185,7 @@ def sweep_columns(X, q, unit, lazy, src, n_src, factor, rho_c, limit, weights, c
     j0 <= j < j1 are swept (``j1 < 0``: all); every column outside is idle too (not listed in ``idle``).
     ``sfx[b, j]`` receives the suffix maximum max_{i >= 8b} theta_ad[i, j] (``sfx[0]``: the column maximum).
     The factored Thomas sweeps (eq. A.6-A.12) run row by row, each row's update vectorised across the columns.
+    (No defaults: a call that left the spans out would compile a second version of the kernel.)
     """
     ncol = X.shape[1]
     j0, j1, s0, s1 = sweep_span(ncol, j0, j1, s0, s1)
@@ -606,7 +607,7 @@ class ThermalColumns:
         j0, j1, idle = self._span(flags)
         sweep_columns(out, self.q_lazy, self.unit_lazy, self.lazy, src, n_src, factor, self.rho_c, math.inf,
                       self.weights, scratch, scratch.copy(), self.mult, self.inv_bp, self.c,
-                      idle, self._idle_val, np.empty_like(self._sfx), j0, j1)
+                      idle, self._idle_val, np.empty_like(self._sfx), j0, j1, 0, -1)
         return out.T
 
     def affine(self, theta_ad: np.ndarray, q_in: np.ndarray) -> np.ndarray:
