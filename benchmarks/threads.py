@@ -11,7 +11,8 @@ a history row every cycle) a simulation per thread count (threads = 1: the seria
 parallel kernels, ``numba.set_num_threads(n)``), stepped ``--zone-cycles`` / n^2 cycles per timing, the counts
 interleaved (1, 2, 4, ..., 1, 2, 4, ...) so that a change of the machine's load hits them alike; then the cone shot
 of examples' cone_in_cylinder (100 um cells, examples/cone_shot.py, Coulomb and thermoelastoplastic
-sub-grid columns) to ``--cone-end-time`` microseconds with ``run_simulation``, each count in turn.  The thread
+sub-grid columns) to ``--cone-end-time`` microseconds with ``run_simulation``, each count in turn, the laws
+interleaved within each repeat.  The thread
 governor is off (the kernels' own scaling) unless ``--governor``.  For each case it prints the median rate (or
 wall time), the speed-up over one thread (of the medians), the parallel efficiency (speed-up / threads), the
 *paired* speed-up (the median over repeats of each repeat's ratio to its own one-thread timing: the counts of a
@@ -243,28 +244,30 @@ def scaling(args) -> None:
 
         sizes = (getattr(slideline, "PARALLEL_MIN_NODES", 0), getattr(cycle, "STAGED_PARALLEL_NODES", 0),
                  getattr(cycle, "STAGED_PARALLEL_THREADS", 1))
+        # compile outside the timings (the parallel slide-line geometry and node passes too: the coarse shot is
+        # smaller than the sizes from which a run takes them)
+        slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES, cycle.STAGED_PARALLEL_THREADS = 1, 0, 1
         for law in args.cone_laws:
-            # compile outside the timings (the parallel slide-line geometry and node passes too: the coarse shot is
-            # smaller than the sizes from which a run takes them)
-            slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES, cycle.STAGED_PARALLEL_THREADS = 1, 0, 1
             for t in counts:
                 use(t)
                 run_simulation(plain(prepare(cone_deck(law, 0.3, 0.7, cell_um=400.0, threads=t, end_us=0.3))))
-            slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES, cycle.STAGED_PARALLEL_THREADS = sizes
-            walls = {t: [] for t in counts}
-            info = ""
-            for _ in range(args.repeat):
+        slideline.PARALLEL_MIN_NODES, cycle.STAGED_PARALLEL_NODES, cycle.STAGED_PARALLEL_THREADS = sizes
+        walls = {law: {t: [] for t in counts} for law in args.cone_laws}
+        info = {}
+        for _ in range(args.repeat):  # the laws interleaved too: a change of the machine's speed hits them alike
+            for law in args.cone_laws:
                 for t in counts:
                     use(t)
                     sim = plain(prepare(cone_deck(law, 0.3, 0.7, cell_um=args.cone_cell_um, threads=t,
                                                   end_us=args.cone_end_time)))
                     start = time.perf_counter()
                     res = run_simulation(sim)
-                    walls[t].append(time.perf_counter() - start)
-                    info = f"{res.summary['zones']} zones, {res.summary['cycles']} cycles"
-            _table(f"cone shot, {law}, {args.cone_cell_um:g} um cells, {args.cone_end_time:g} us ({info}), "
-                   f"{args.repeat} repeat(s), load average {os.getloadavg()[0]:.2f}:", counts, walls, "wall time s",
-                   False)
+                    walls[law][t].append(time.perf_counter() - start)
+                    info[law] = f"{res.summary['zones']} zones, {res.summary['cycles']} cycles"
+        for law in args.cone_laws:
+            _table(f"cone shot, {law}, {args.cone_cell_um:g} um cells, {args.cone_end_time:g} us ({info[law]}), "
+                   f"{args.repeat} repeat(s), load average {os.getloadavg()[0]:.2f}:", counts, walls[law],
+                   "wall time s", False)
 
 
 def main() -> None:
